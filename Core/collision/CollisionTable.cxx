@@ -1,0 +1,379 @@
+#include "collision/CollisionTable.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace hair
+{
+
+namespace
+{
+constexpr double TwoPi = 6.283185307179586476925286766559;
+constexpr double Pi = 3.1415926535897932384626433832795;
+
+std::string vec(const Eigen::Vector3d& v)
+{
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+} // namespace
+
+const char* toString(Projection p)
+{
+  return p == Projection::Spherical ? "spherical" : "cylindrical";
+}
+
+Status TableFrame::validate() const
+{
+  if (!origin.allFinite())
+  {
+    return Status::Error("the frame origin " + vec(origin) + " is not finite: give three numbers.");
+  }
+  if (!axis.allFinite() || axis.norm() < 1e-12)
+  {
+    return Status::Error("the frame axis " + vec(axis) +
+                         " is zero or not finite: give a non-zero direction.");
+  }
+  if (!reference.allFinite() || reference.norm() < 1e-12)
+  {
+    return Status::Error("the frame reference direction " + vec(reference) +
+                         " is zero or not finite: give a non-zero direction for azimuth 0.");
+  }
+  const Eigen::Vector3d a = axis.normalized();
+  const Eigen::Vector3d r = reference.normalized();
+  if ((r - a * a.dot(r)).norm() < 1e-6)
+  {
+    return Status::Error(
+        "the frame reference direction " + vec(reference) + " is parallel to the axis " +
+        vec(axis) + ": azimuth 0 must point away from the axis; choose a perpendicular direction.");
+  }
+  return Status::Ok();
+}
+
+Eigen::Matrix3d TableFrame::basis() const
+{
+  const Eigen::Vector3d a = axis.normalized();
+  const Eigen::Vector3d r = (reference - a * a.dot(reference)).normalized();
+  Eigen::Matrix3d b;
+  b.col(0) = r;
+  b.col(1) = a.cross(r);
+  b.col(2) = a;
+  return b;
+}
+
+Status TableSpec::validate() const
+{
+  if (Status s = frame.validate(); !s)
+  {
+    return s;
+  }
+  auto resolution = [](int n, const char* what, int minimum) -> Status
+  {
+    if (n < minimum || n > MaximumSamples)
+    {
+      return Status::Error(std::string("the table resolution along ") + what + " is " +
+                           std::to_string(n) + ": give between " + std::to_string(minimum) +
+                           " and " + std::to_string(MaximumSamples) +
+                           " samples (the paper used 40).");
+    }
+    return Status::Ok();
+  };
+  if (Status s = resolution(azimuthSamples, "the azimuth", 3); !s)
+  {
+    return s;
+  }
+  if (Status s =
+          resolution(secondSamples,
+                     projection == Projection::Cylindrical ? "the height" : "the polar angle", 2);
+      !s)
+  {
+    return s;
+  }
+  if (projection == Projection::Cylindrical)
+  {
+    if (!std::isfinite(heightMin) || !std::isfinite(heightMax) || !(heightMax > heightMin))
+    {
+      std::ostringstream m;
+      m << "the height range [" << heightMin << ", " << heightMax
+        << "] is empty or not finite: give a minimum below the maximum, in the mesh's units "
+           "along the axis measured from the origin.";
+      return Status::Error(m.str());
+    }
+  }
+  if (!(maxRadius > 0)) // also refuses NaN
+  {
+    return Status::Error("the maximum radius " + std::to_string(maxRadius) +
+                         " is not positive: give a positive distance, or infinity for no limit.");
+  }
+  return Status::Ok();
+}
+
+double CollisionTable::azimuth(int i) const
+{
+  return TwoPi * i / Spec.azimuthSamples;
+}
+
+double CollisionTable::second(int j) const
+{
+  const double f = double(j) / (Spec.secondSamples - 1);
+  return Spec.projection == Projection::Cylindrical
+             ? Spec.heightMin + f * (Spec.heightMax - Spec.heightMin)
+             : Pi * f;
+}
+
+Eigen::Vector3d CollisionTable::rayDirection(int i, int j) const
+{
+  const double th = azimuth(i);
+  if (Spec.projection == Projection::Cylindrical)
+  {
+    return Basis * Eigen::Vector3d(std::cos(th), std::sin(th), 0);
+  }
+  const double ph = second(j);
+  return Basis *
+         Eigen::Vector3d(std::sin(ph) * std::cos(th), std::sin(ph) * std::sin(th), std::cos(ph));
+}
+
+Eigen::Vector3d CollisionTable::rayOrigin(int /*i*/, int j) const
+{
+  if (Spec.projection == Projection::Cylindrical)
+  {
+    return Spec.frame.origin + second(j) * Basis.col(2);
+  }
+  return Spec.frame.origin;
+}
+
+int CollisionTable::numberOfHits() const
+{
+  return static_cast<int>(std::count(Hit.begin(), Hit.end(), std::uint8_t(1)));
+}
+
+Status CollisionTable::build(const TableSpec& spec, const RayCaster& body, const Progress& progress)
+{
+  if (Status s = spec.validate(); !s)
+  {
+    return s;
+  }
+  CollisionTable t;
+  t.Spec = spec;
+  t.Basis = spec.frame.basis();
+  const std::size_t n = std::size_t(spec.azimuthSamples) * spec.secondSamples;
+  t.Hit.assign(n, 0);
+  t.Outer.assign(n, 0);
+  t.Inner.assign(n, 0);
+  t.OuterNormal.assign(n, Eigen::Vector3d::Zero());
+  t.InnerNormal.assign(n, Eigen::Vector3d::Zero());
+
+  std::vector<RayHit> hits;
+  for (int j = 0; j < spec.secondSamples; ++j)
+  {
+    for (int i = 0; i < spec.azimuthSamples; ++i)
+    {
+      const Eigen::Vector3d o = t.rayOrigin(i, j), d = t.rayDirection(i, j);
+      body.castAll(o, d, hits);
+      // Crossings within reach, and whether the solid continues past the reach (an odd
+      // number of crossings beyond it).
+      std::size_t k = 0;
+      while (k < hits.size() && hits[k].t <= spec.maxRadius)
+      {
+        ++k;
+      }
+      const bool capped = ((hits.size() - k) % 2) == 1;
+      const int s = t.index(i, j);
+      if (capped)
+      {
+        // The solid runs through the end of the ray: cut it there with a cap facing out.
+        t.Hit[s] = 1;
+        t.Outer[s] = spec.maxRadius;
+        t.OuterNormal[s] = d;
+        if (k >= 1)
+        {
+          t.Inner[s] = hits[k - 1].t;
+          t.InnerNormal[s] = hits[k - 1].normal;
+        }
+      }
+      else if (k >= 1)
+      {
+        // The outermost solid interval [h(k-2), h(k-1)]: with an even number of crossings
+        // the axis lies outside the solid, with an odd one inside, and either way the
+        // interval's inner end is the crossing before the last (or the axis itself).
+        t.Hit[s] = 1;
+        t.Outer[s] = hits[k - 1].t;
+        t.OuterNormal[s] = hits[k - 1].normal;
+        if (k >= 2)
+        {
+          t.Inner[s] = hits[k - 2].t;
+          t.InnerNormal[s] = hits[k - 2].normal;
+        }
+      }
+    }
+    if (progress && !progress(double(j + 1) / spec.secondSamples))
+    {
+      return Status::Error("building the collision table was aborted; nothing was changed.");
+    }
+  }
+  if (t.numberOfHits() == 0)
+  {
+    return Status::Error(
+        std::string("no ray of the ") + toString(spec.projection) +
+        " table met the mesh: the frame (origin " + vec(spec.frame.origin) + ", axis " +
+        vec(spec.frame.axis) +
+        ") misses it. Put the origin inside the body part, or use the automatic frame.");
+  }
+  *this = std::move(t);
+  return Status::Ok();
+}
+
+Status CollisionTable::assign(const TableSpec& spec, std::vector<std::uint8_t> hit,
+                              std::vector<double> outer, std::vector<double> inner,
+                              std::vector<Eigen::Vector3d> outerNormal,
+                              std::vector<Eigen::Vector3d> innerNormal)
+{
+  if (Status s = spec.validate(); !s)
+  {
+    return s;
+  }
+  const std::size_t n = std::size_t(spec.azimuthSamples) * spec.secondSamples;
+  if (hit.size() != n || outer.size() != n || inner.size() != n || outerNormal.size() != n ||
+      innerNormal.size() != n)
+  {
+    return Status::Error("the collision table's arrays do not have " + std::to_string(n) +
+                         " samples (" + std::to_string(spec.azimuthSamples) + " x " +
+                         std::to_string(spec.secondSamples) +
+                         "): the table is incomplete; rebuild it.");
+  }
+  for (std::size_t s = 0; s < n; ++s)
+  {
+    if (hit[s] &&
+        (!std::isfinite(outer[s]) || !std::isfinite(inner[s]) || !outerNormal[s].allFinite() ||
+         !innerNormal[s].allFinite() || inner[s] < 0 || outer[s] < inner[s]))
+    {
+      return Status::Error(
+          "the collision table's sample " + std::to_string(s) +
+          " has a radius or normal that is not finite or an inner radius past the outer one: "
+          "the table is corrupt; rebuild it.");
+    }
+  }
+  Spec = spec;
+  Basis = spec.frame.basis();
+  Hit = std::move(hit);
+  Outer = std::move(outer);
+  Inner = std::move(inner);
+  OuterNormal = std::move(outerNormal);
+  InnerNormal = std::move(innerNormal);
+  return Status::Ok();
+}
+
+TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
+{
+  TableQuery q;
+  if (Hit.empty() || !p.allFinite())
+  {
+    return q;
+  }
+  const Eigen::Vector3d local = Basis.transpose() * (p - Spec.frame.origin);
+  const int na = Spec.azimuthSamples, ns = Spec.secondSamples;
+
+  // Azimuth: periodic.
+  double th = std::atan2(local.y(), local.x());
+  if (th < 0)
+  {
+    th += TwoPi;
+  }
+  double u = th / TwoPi * na;
+  int i0 = static_cast<int>(std::floor(u));
+  const double fs = u - i0;
+  i0 = ((i0 % na) + na) % na;
+  const int i1 = (i0 + 1) % na;
+
+  // Second coordinate: height (only inside the table's range) or polar angle (poles clamp).
+  double v, radius;
+  Eigen::Vector3d radial;
+  if (Spec.projection == Projection::Cylindrical)
+  {
+    if (local.z() < Spec.heightMin || local.z() > Spec.heightMax)
+    {
+      return q;
+    }
+    v = (local.z() - Spec.heightMin) / (Spec.heightMax - Spec.heightMin) * (ns - 1);
+    radius = std::hypot(local.x(), local.y());
+    radial = radius > 0 ? Eigen::Vector3d(local.x() / radius, local.y() / radius, 0)
+                        : Eigen::Vector3d::UnitX();
+  }
+  else
+  {
+    radius = local.norm();
+    const double ph = radius > 0 ? std::acos(std::clamp(local.z() / radius, -1.0, 1.0)) : 0.0;
+    v = ph / Pi * (ns - 1);
+    radial = radius > 0 ? Eigen::Vector3d(local / radius) : Eigen::Vector3d::UnitZ();
+  }
+  int j0 = std::clamp(static_cast<int>(std::floor(v)), 0, ns - 2);
+  const double ft = std::clamp(v - j0, 0.0, 1.0);
+  const int j1 = j0 + 1;
+
+  // Bilinear weights over the corners that met the body. A point is covered when those
+  // corners carry at least half of the weight: the table's edge lies half-way between a
+  // sample that met the body and one that did not.
+  const int corner[4] = {index(i0, j0), index(i1, j0), index(i0, j1), index(i1, j1)};
+  const double weight[4] = {(1 - fs) * (1 - ft), fs * (1 - ft), (1 - fs) * ft, fs * ft};
+  double w = 0, outer = 0, inner = 0;
+  Eigen::Vector3d nOut = Eigen::Vector3d::Zero(), nIn = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 4; ++c)
+  {
+    if (Hit[corner[c]])
+    {
+      w += weight[c];
+      outer += weight[c] * Outer[corner[c]];
+      inner += weight[c] * Inner[corner[c]];
+      nOut += weight[c] * OuterNormal[corner[c]];
+      nIn += weight[c] * InnerNormal[corner[c]];
+    }
+  }
+  if (w < 0.5)
+  {
+    return q;
+  }
+  outer /= w;
+  inner /= w;
+
+  q.covered = true;
+  q.pointRadius = radius;
+  q.surfaceRadius = outer;
+  q.innerRadius = inner;
+  q.inside = radius < outer && (inner <= 0 || radius > inner);
+  // The nearer of the two surfaces along the ray. The inner one exists only when the
+  // solid does not hold the axis (inner > 0) and its normal was recorded.
+  const bool useInner = inner > 0 && nIn.squaredNorm() > 0 && (radius - inner) < (outer - radius);
+  const double rq = useInner ? inner : outer;
+  Eigen::Vector3d nLocalWorld = useInner ? nIn : nOut;
+  if (nLocalWorld.squaredNorm() < 1e-24)
+  {
+    nLocalWorld = Basis * radial * (useInner ? -1.0 : 1.0);
+  }
+  const Eigen::Vector3d normal = nLocalWorld.normalized();
+  Eigen::Vector3d qLocal = rq * radial;
+  if (Spec.projection == Projection::Cylindrical)
+  {
+    qLocal.z() = local.z();
+  }
+  q.surfacePoint = Spec.frame.origin + Basis * qLocal;
+  q.normal = normal;
+  q.depth = (q.surfacePoint - p).dot(normal);
+  q.nearest = p + q.depth * normal;
+  return q;
+}
+
+TableQuery BodyPart::query(const Eigen::Vector3d& pWorld) const
+{
+  TableQuery q = table.query(pose.inverse() * pWorld);
+  if (q.covered)
+  {
+    q.surfacePoint = pose * q.surfacePoint;
+    q.nearest = pose * q.nearest;
+    q.normal = pose.linear() * q.normal;
+  }
+  return q;
+}
+
+} // namespace hair

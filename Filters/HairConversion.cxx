@@ -1,0 +1,314 @@
+#include "HairConversion.h"
+
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkTriangleFilter.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <cmath>
+
+namespace hair
+{
+namespace convert
+{
+
+Status toTriangleMesh(vtkPolyData* input, const std::string& what, TriangleMesh& mesh)
+{
+  if (input == nullptr || input->GetNumberOfPoints() == 0)
+  {
+    return Status::Error(what + " is empty: connect a surface mesh (e.g. Data/body.vtk).");
+  }
+  if (input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
+  {
+    return Status::Error(
+        what + " has " + std::to_string(input->GetNumberOfPoints()) +
+        " points but no polygons: the table needs a closed surface (apply Extract Surface to a "
+        "volume mesh first).");
+  }
+  vtkNew<vtkPolyData> surface;
+  surface->SetPoints(input->GetPoints());
+  surface->SetPolys(input->GetPolys());
+  surface->SetStrips(input->GetStrips());
+  vtkNew<vtkTriangleFilter> triangulate;
+  triangulate->SetInputData(surface);
+  triangulate->PassLinesOff();
+  triangulate->PassVertsOff();
+  triangulate->Update();
+  vtkPolyData* tri = triangulate->GetOutput();
+
+  TriangleMesh m;
+  m.points.resize(tri->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < tri->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    tri->GetPoint(i, p);
+    m.points[i] = Eigen::Vector3d(p[0], p[1], p[2]);
+  }
+  vtkCellArray* polys = tri->GetPolys();
+  m.triangles.reserve(polys->GetNumberOfCells());
+  vtkNew<vtkIdList> ids;
+  for (polys->InitTraversal(); polys->GetNextCell(ids);)
+  {
+    if (ids->GetNumberOfIds() == 3)
+    {
+      m.triangles.push_back({static_cast<int>(ids->GetId(0)), static_cast<int>(ids->GetId(1)),
+                             static_cast<int>(ids->GetId(2))});
+    }
+  }
+  if (Status s = m.validate(what); !s)
+  {
+    return s;
+  }
+  mesh = std::move(m);
+  return Status::Ok();
+}
+
+namespace
+{
+void addField(vtkFieldData* fd, const char* name, const Eigen::Vector3d& v)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->InsertNextTuple3(v.x(), v.y(), v.z());
+  fd->AddArray(a);
+}
+
+void addField(vtkFieldData* fd, const char* name, std::initializer_list<double> values)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  for (double v : values)
+  {
+    a->InsertNextValue(v);
+  }
+  fd->AddArray(a);
+}
+
+vtkDataArray* field(vtkFieldData* fd, const char* name, int components, vtkIdType minimumValues)
+{
+  vtkDataArray* a = fd ? vtkDataArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
+  if (a == nullptr || a->GetNumberOfComponents() != components ||
+      a->GetNumberOfValues() < minimumValues)
+  {
+    return nullptr;
+  }
+  return a;
+}
+
+vtkDoubleArray* pointArray(const char* name, int components, vtkIdType n)
+{
+  auto* a = vtkDoubleArray::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(n);
+  return a;
+}
+} // namespace
+
+void toImage(const CollisionTable& table, const std::string& bodyPart, bool movesWithHead,
+             vtkImageData* image)
+{
+  const TableSpec& spec = table.spec();
+  const int na = spec.azimuthSamples, ns = spec.secondSamples;
+  image->Initialize();
+  image->SetDimensions(na, ns, 1);
+  image->SetOrigin(0, table.second(0), 0);
+  image->SetSpacing(2 * M_PI / na, (table.second(ns - 1) - table.second(0)) / (ns - 1), 1);
+  const vtkIdType n = vtkIdType(na) * ns;
+  vtkSmartPointer<vtkDoubleArray> outer =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray(names::Radius, 1, n));
+  vtkSmartPointer<vtkDoubleArray> inner =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray(names::InnerRadius, 1, n));
+  vtkSmartPointer<vtkDoubleArray> normal =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray(names::Normal, 3, n));
+  vtkSmartPointer<vtkDoubleArray> innerNormal =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray(names::InnerNormal, 3, n));
+  vtkNew<vtkUnsignedCharArray> hit;
+  hit->SetName(names::Hit);
+  hit->SetNumberOfTuples(n);
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    outer->SetValue(s, table.outerRadius()[s]);
+    inner->SetValue(s, table.innerRadius()[s]);
+    normal->SetTuple(s, table.outerNormal()[s].data());
+    innerNormal->SetTuple(s, table.innerNormal()[s].data());
+    hit->SetValue(s, table.hit()[s]);
+  }
+  vtkPointData* pd = image->GetPointData();
+  pd->AddArray(outer);
+  pd->AddArray(inner);
+  pd->AddArray(normal);
+  pd->AddArray(innerNormal);
+  pd->AddArray(hit);
+  pd->SetActiveScalars(names::Radius);
+
+  vtkFieldData* fd = image->GetFieldData();
+  vtkNew<vtkIntArray> projection;
+  projection->SetName(names::Projection);
+  projection->InsertNextValue(static_cast<int>(spec.projection));
+  fd->AddArray(projection);
+  addField(fd, names::FrameOrigin, spec.frame.origin);
+  addField(fd, names::FrameAxis, spec.frame.axis);
+  addField(fd, names::FrameReference, spec.frame.reference);
+  addField(fd, names::HeightRange, {spec.heightMin, spec.heightMax});
+  addField(fd, names::MaximumRadius, {std::isfinite(spec.maxRadius) ? spec.maxRadius : 0.0});
+  vtkNew<vtkStringArray> name;
+  name->SetName(names::BodyPartName);
+  name->InsertNextValue(bodyPart);
+  fd->AddArray(name);
+  vtkNew<vtkIntArray> moves;
+  moves->SetName(names::MovesWithHead);
+  moves->InsertNextValue(movesWithHead ? 1 : 0);
+  fd->AddArray(moves);
+}
+
+Status fromImage(vtkImageData* image, CollisionTable& table, std::string* bodyPart,
+                 bool* movesWithHead)
+{
+  const std::string notATable =
+      "is not a collision table (make it with the Cylindrical Collision Map filter)";
+  if (image == nullptr)
+  {
+    return Status::Error("the collision table input is missing.");
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  vtkFieldData* fd = image->GetFieldData();
+  vtkDataArray* projection = field(fd, names::Projection, 1, 1);
+  vtkDataArray* origin = field(fd, names::FrameOrigin, 3, 3);
+  vtkDataArray* axis = field(fd, names::FrameAxis, 3, 3);
+  vtkDataArray* reference = field(fd, names::FrameReference, 3, 3);
+  vtkDataArray* heights = field(fd, names::HeightRange, 1, 2);
+  vtkDataArray* maxRadius = field(fd, names::MaximumRadius, 1, 1);
+  if (!projection || !origin || !axis || !reference || !heights || !maxRadius)
+  {
+    return Status::Error("the image " + notATable + ": its frame is missing from field data.");
+  }
+  vtkPointData* pd = image->GetPointData();
+  const vtkIdType n = vtkIdType(dims[0]) * dims[1];
+  auto pointArray = [&](const char* name, int components) -> vtkDataArray*
+  {
+    vtkDataArray* a = pd->GetArray(name);
+    return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == n ? a
+                                                                                        : nullptr;
+  };
+  vtkDataArray* outer = pointArray(names::Radius, 1);
+  vtkDataArray* inner = pointArray(names::InnerRadius, 1);
+  vtkDataArray* normal = pointArray(names::Normal, 3);
+  vtkDataArray* innerNormal = pointArray(names::InnerNormal, 3);
+  vtkDataArray* hit = pointArray(names::Hit, 1);
+  if (dims[2] != 1 || !outer || !inner || !normal || !innerNormal || !hit)
+  {
+    return Status::Error("the image " + notATable +
+                         ": its Radius, InnerRadius, Normal, "
+                         "InnerNormal or Hit array is missing.");
+  }
+  TableSpec spec;
+  const int p = static_cast<int>(projection->GetTuple1(0));
+  if (p != 0 && p != 1)
+  {
+    return Status::Error("the image " + notATable + ": unknown projection " + std::to_string(p));
+  }
+  spec.projection = static_cast<Projection>(p);
+  for (int k = 0; k < 3; ++k)
+  {
+    spec.frame.origin[k] = origin->GetComponent(0, k);
+    spec.frame.axis[k] = axis->GetComponent(0, k);
+    spec.frame.reference[k] = reference->GetComponent(0, k);
+  }
+  spec.azimuthSamples = dims[0];
+  spec.secondSamples = dims[1];
+  spec.heightMin = heights->GetComponent(0, 0);
+  spec.heightMax = heights->GetComponent(1, 0);
+  const double r = maxRadius->GetTuple1(0);
+  spec.maxRadius = r > 0 ? r : std::numeric_limits<double>::infinity();
+  std::vector<std::uint8_t> h(n);
+  std::vector<double> ro(n), ri(n);
+  std::vector<Eigen::Vector3d> no(n), ni(n);
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    h[s] = hit->GetTuple1(s) != 0;
+    ro[s] = outer->GetTuple1(s);
+    ri[s] = inner->GetTuple1(s);
+    normal->GetTuple(s, no[s].data());
+    innerNormal->GetTuple(s, ni[s].data());
+  }
+  CollisionTable t;
+  if (Status s =
+          t.assign(spec, std::move(h), std::move(ro), std::move(ri), std::move(no), std::move(ni));
+      !s)
+  {
+    return s;
+  }
+  if (bodyPart)
+  {
+    auto* names = vtkStringArray::SafeDownCast(fd->GetAbstractArray(names::BodyPartName));
+    *bodyPart = names && names->GetNumberOfValues() > 0 ? names->GetValue(0) : std::string();
+  }
+  if (movesWithHead)
+  {
+    vtkDataArray* m = field(fd, names::MovesWithHead, 1, 1);
+    *movesWithHead = m && m->GetTuple1(0) != 0;
+  }
+  table = std::move(t);
+  return Status::Ok();
+}
+
+void toSurface(const CollisionTable& table, vtkPolyData* surface)
+{
+  const TableSpec& spec = table.spec();
+  const int na = spec.azimuthSamples, ns = spec.secondSamples;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(vtkIdType(na) * ns);
+  vtkSmartPointer<vtkDoubleArray> radius =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray(names::Radius, 1, vtkIdType(na) * ns));
+  vtkSmartPointer<vtkDoubleArray> normals =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Normals", 3, vtkIdType(na) * ns));
+  for (int j = 0; j < ns; ++j)
+  {
+    for (int i = 0; i < na; ++i)
+    {
+      const int s = table.index(i, j);
+      const Eigen::Vector3d x =
+          table.rayOrigin(i, j) + table.outerRadius()[s] * table.rayDirection(i, j);
+      points->SetPoint(s, x.data());
+      radius->SetValue(s, table.outerRadius()[s]);
+      normals->SetTuple(s, table.outerNormal()[s].data());
+    }
+  }
+  vtkNew<vtkCellArray> quads;
+  for (int j = 0; j + 1 < ns; ++j)
+  {
+    for (int i = 0; i < na; ++i)
+    {
+      const int i1 = (i + 1) % na;
+      const vtkIdType q[4] = {table.index(i, j), table.index(i1, j), table.index(i1, j + 1),
+                              table.index(i, j + 1)};
+      if (table.hit()[q[0]] && table.hit()[q[1]] && table.hit()[q[2]] && table.hit()[q[3]])
+      {
+        quads->InsertNextCell(4, q);
+      }
+    }
+  }
+  surface->Initialize();
+  surface->SetPoints(points);
+  surface->SetPolys(quads);
+  surface->GetPointData()->AddArray(radius);
+  surface->GetPointData()->SetNormals(normals);
+  surface->GetPointData()->SetActiveScalars(names::Radius);
+}
+
+} // namespace convert
+} // namespace hair

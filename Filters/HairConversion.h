@@ -1,0 +1,55 @@
+#pragma once
+// vtkPolyData / vtkImageData <-> HairCore types. The one place where the pipeline's data
+// and Core's meet; filters call these and stay thin.
+#include "collision/CollisionTable.h"
+#include "collision/TriangleMesh.h"
+#include "common/Status.h"
+
+#include <string>
+
+class vtkImageData;
+class vtkPolyData;
+
+namespace hair
+{
+namespace convert
+{
+
+/// Triangulates the polygons and strips of `input` (lines and vertices are ignored) into a
+/// triangle soup. `what` names the input in messages.
+Status toTriangleMesh(vtkPolyData* input, const std::string& what, TriangleMesh& mesh);
+
+/// Field-data names of a table image: the frame and extent that turn it back into a table.
+namespace names
+{
+constexpr const char* Radius = "Radius";
+constexpr const char* InnerRadius = "InnerRadius";
+constexpr const char* Normal = "Normal";
+constexpr const char* InnerNormal = "InnerNormal";
+constexpr const char* Hit = "Hit";
+constexpr const char* Projection = "Projection";
+constexpr const char* FrameOrigin = "FrameOrigin";
+constexpr const char* FrameAxis = "FrameAxis";
+constexpr const char* FrameReference = "FrameReference";
+constexpr const char* HeightRange = "HeightRange";
+constexpr const char* MaximumRadius = "MaximumRadius";
+constexpr const char* BodyPartName = "BodyPartName";
+constexpr const char* MovesWithHead = "MovesWithHead";
+} // namespace names
+
+/// Writes `table` into `image`: dimensions azimuth × second × 1, x = azimuth (radians),
+/// y = height (cylindrical) or polar angle (spherical); point arrays Radius, InnerRadius,
+/// Normal, InnerNormal, Hit; the frame and extent in field data.
+void toImage(const CollisionTable& table, const std::string& bodyPart, bool movesWithHead,
+             vtkImageData* image);
+
+/// Reads a table written by toImage back. Refuses an image that is not a collision table.
+Status fromImage(vtkImageData* image, CollisionTable& table, std::string* bodyPart = nullptr,
+                 bool* movesWithHead = nullptr);
+
+/// The surface the table represents (outer radii), as quads between neighbouring samples
+/// that met the body, with the Radius and Normals arrays, in world coordinates.
+void toSurface(const CollisionTable& table, vtkPolyData* surface);
+
+} // namespace convert
+} // namespace hair
