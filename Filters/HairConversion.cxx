@@ -16,6 +16,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <cmath>
+#include <utility>
 
 namespace hair
 {
@@ -294,8 +295,15 @@ void toSurface(const CollisionTable& table, vtkPolyData* surface)
     for (int i = 0; i < na; ++i)
     {
       const int i1 = (i + 1) % na;
-      const vtkIdType q[4] = {table.index(i, j), table.index(i1, j), table.index(i1, j + 1),
-                              table.index(i, j + 1)};
+      // Counter-clockwise seen from outside: (+θ, +height) turns outwards on a cylinder,
+      // (+θ, +polar angle) inwards on a sphere, so the spherical quads run the other way
+      // (renderers take the winding as the front side for two-sided lighting).
+      vtkIdType q[4] = {table.index(i, j), table.index(i1, j), table.index(i1, j + 1),
+                        table.index(i, j + 1)};
+      if (spec.projection == Projection::Spherical)
+      {
+        std::swap(q[1], q[3]);
+      }
       if (table.hit()[q[0]] && table.hit()[q[1]] && table.hit()[q[2]] && table.hit()[q[3]])
       {
         quads->InsertNextCell(4, q);

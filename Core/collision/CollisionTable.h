@@ -113,8 +113,10 @@ public:
   const std::vector<Eigen::Vector3d>& innerNormal() const { return InnerNormal; }
 
 private:
+  void updateDerived(); ///< basis and scales that follow from Spec (query's hot path)
   TableSpec Spec;
   Eigen::Matrix3d Basis = Eigen::Matrix3d::Identity();
+  double AzimuthScale = 1, SecondScale = 1;
   std::vector<std::uint8_t> Hit;
   std::vector<double> Outer, Inner;
   std::vector<Eigen::Vector3d> OuterNormal, InnerNormal;

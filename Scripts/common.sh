@@ -1,0 +1,13 @@
+# Sourced by demo.sh and test.sh: installs what is missing, then configures and builds.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${HAIR_BUILD_DIR:-$ROOT/build}"
+JOBS="${HAIR_JOBS:-2}"
+
+bash "$ROOT/Scripts/install-deps.sh"
+
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
+fi
+cmake --build "$BUILD" -j "$JOBS"
+PLUGIN="$BUILD/lib/paraview-5.11/plugins/HairDynamics/HairDynamics.so"

@@ -1,0 +1,6 @@
+#!/usr/bin/env bash
+# The main job: installs, builds, and runs the demo on the bundled data; results in Output/.
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+OUT="${HAIR_OUTPUT_DIR:-$ROOT/Output}"
+# Debian's ParaView renders only through X: xvfb-run gives it a display.
+xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo.py" "$PLUGIN" "$OUT"
