@@ -352,25 +352,30 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   // sample that met the body and one that did not.
   const int corner[4] = {index(i0, j0), index(i1, j0), index(i0, j1), index(i1, j1)};
   const double weight[4] = {(1 - fs) * (1 - ft), fs * (1 - ft), (1 - fs) * ft, fs * ft};
-  double w = 0, outer = 0, inner = 0;
+  // The inner surface is treated like the edge of the table: it exists at P when the
+  // corners that have one (inner > 0) carry at least half of the hit corners' weight, and
+  // its radius is their weighted mean. Interpolating 0 with an inner radius across such a
+  // corner (a ray that re-enters a lid or a lip) would invent a surface between them.
+  double w = 0, outer = 0, wIn = 0, inner = 0;
   for (int c = 0; c < 4; ++c)
   {
     if (Hit[corner[c]])
     {
       w += weight[c];
       outer += weight[c] * Outer[corner[c]];
-      inner += weight[c] * Inner[corner[c]];
+      if (Inner[corner[c]] > 0)
+      {
+        wIn += weight[c];
+        inner += weight[c] * Inner[corner[c]];
+      }
     }
   }
   if (w < 0.5)
   {
     return q;
   }
-  if (w < 1)
-  {
-    outer /= w;
-    inner /= w;
-  }
+  outer = w < 1 ? outer / w : outer;
+  inner = wIn >= 0.5 * w ? inner / wIn : 0.0;
 
   q.covered = true;
   q.pointRadius = radius;
@@ -385,7 +390,7 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   Eigen::Vector3d nLocalWorld = Eigen::Vector3d::Zero();
   for (int c = 0; c < 4; ++c)
   {
-    if (Hit[corner[c]])
+    if (Hit[corner[c]] && (!useInner || Inner[corner[c]] > 0))
     {
       nLocalWorld += weight[c] * normals[corner[c]];
     }
