@@ -1,0 +1,102 @@
+#pragma once
+// The HDF5 state file: every frame of a simulation, readable without the plugin (h5py).
+// Layout and guarantees are documented in docs/state-file.md; the names here are the
+// interface that scripts depend on.
+#include "common/Status.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+/// What does not change over a run.
+struct StateHeader
+{
+  std::string model;                 ///< "super-helix" or "projective"
+  std::vector<std::int64_t> offsets; ///< strand k owns points offsets[k] … offsets[k+1]−1
+  /// Generalized coordinates per strand (3N for Super-Helices; 0: no /frames/q, /frames/qdot).
+  int coordinatesPerStrand = 0;
+  /// Per-strand parameters, each an array of one value per strand (length, radius, …).
+  std::map<std::string, std::vector<double>> strandParameters;
+  /// Scalar attributes of the run (time step, gravity components, …), stored on /.
+  std::map<std::string, double> attributes;
+
+  std::size_t numberOfStrands() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t numberOfPoints() const { return offsets.empty() ? 0 : std::size_t(offsets.back()); }
+  Status validate() const;
+};
+
+/// One frame.
+struct StateFrame
+{
+  double time = 0;
+  std::vector<Eigen::Vector3d> positions;  ///< one per point
+  std::vector<Eigen::Vector3d> velocities; ///< one per point
+  std::vector<double> q, qdot;             ///< numberOfStrands × coordinatesPerStrand
+  /// Energy terms by name (J). The names kinetic, elastic, gravitational, dissipated and
+  /// external_work are always written (0 when absent); any other term is written too.
+  std::map<std::string, double> energy;
+};
+
+/// The energy terms every state file has.
+extern const char* const RequiredEnergyTerms[5];
+
+/// Writes a state file frame by frame. Each frame is flushed before append() returns, and
+/// the file is written in HDF5's single-writer/multiple-reader mode, so a run killed at any
+/// moment (even SIGKILL) leaves a file that reads back up to its last whole frame, and a
+/// reader can follow a run while it is written.
+class StateFileWriter
+{
+public:
+  StateFileWriter();
+  ~StateFileWriter();
+  StateFileWriter(const StateFileWriter&) = delete;
+  StateFileWriter& operator=(const StateFileWriter&) = delete;
+
+  /// Creates (truncates) the file. `extraEnergyTerms` are the names of energy terms beyond
+  /// the required five that frames will carry.
+  Status create(const std::string& path, const StateHeader& header,
+                const std::vector<std::string>& extraEnergyTerms = {});
+  Status append(const StateFrame& frame);
+  Status close();
+  bool isOpen() const;
+  std::int64_t numberOfFrames() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+
+/// Reads a state file, including one whose writer was killed or is still writing.
+class StateFileReader
+{
+public:
+  StateFileReader();
+  ~StateFileReader();
+  StateFileReader(const StateFileReader&) = delete;
+  StateFileReader& operator=(const StateFileReader&) = delete;
+
+  /// Opens and checks the file: refuses a file that is not HDF5, not a HairDynamics state
+  /// file, of an unknown format version, or damaged, with a message that says which.
+  Status open(const std::string& path);
+  void close();
+  const StateHeader& header() const;
+  /// Whole frames in the file (a frame being written when the writer stopped is not one).
+  std::int64_t numberOfFrames() const;
+  const std::vector<double>& times() const;
+  /// Every frame's value of each energy term.
+  const std::map<std::string, std::vector<double>>& energies() const;
+  Status readFrame(std::int64_t index, StateFrame& frame) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+
+} // namespace hair

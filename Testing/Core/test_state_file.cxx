@@ -1,0 +1,272 @@
+// The HDF5 state file: exact round trip, a writer killed with SIGKILL mid-run, a reader
+// following a writer, and files that are not state files. The reference for the layout is
+// docs/state-file.md (what h5py users read), checked here with HDF5's own C API.
+#include "io/StateFile.h"
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+using namespace hair;
+
+namespace
+{
+StateHeader header(int strands, int pointsPerStrand, int coordinates)
+{
+  StateHeader h;
+  h.model = "super-helix";
+  h.coordinatesPerStrand = coordinates;
+  for (int k = 0; k <= strands; ++k)
+  {
+    h.offsets.push_back(std::int64_t(k) * pointsPerStrand);
+  }
+  h.strandParameters["length"] = std::vector<double>(strands, 0.3);
+  h.strandParameters["radius"] = std::vector<double>(strands, 5e-5);
+  h.attributes["time_step"] = 1.0 / 30;
+  return h;
+}
+
+/// A frame whose every value is a known function of (frame, index), so a reader can check
+/// each one without having kept them.
+StateFrame frame(const StateHeader& h, int t)
+{
+  StateFrame f;
+  f.time = t / 30.0;
+  for (std::size_t i = 0; i < h.numberOfPoints(); ++i)
+  {
+    f.positions.emplace_back(t + 0.001 * i, -double(i), 0.5 * t);
+    f.velocities.emplace_back(1e-3 * t, 2e-3 * i, -1.0);
+  }
+  const std::size_t nq = h.numberOfStrands() * h.coordinatesPerStrand;
+  for (std::size_t i = 0; i < nq; ++i)
+  {
+    f.q.push_back(0.01 * t + i);
+    f.qdot.push_back(-0.02 * t + i);
+  }
+  f.energy = {{"kinetic", 1.0 * t},    {"elastic", 2.0 * t},        {"gravitational", -3.0 * t},
+              {"dissipated", 0.5 * t}, {"external_work", 0.25 * t}, {"residual", 1e-9 * t}};
+  return f;
+}
+
+std::string temp(const char* name)
+{
+  return ::testing::TempDir() + "/" + name;
+}
+
+void expectFrameEquals(const StateFrame& a, const StateFrame& b)
+{
+  EXPECT_EQ(a.time, b.time);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i)
+  {
+    EXPECT_EQ(a.positions[i], b.positions[i]);
+    EXPECT_EQ(a.velocities[i], b.velocities[i]);
+  }
+  EXPECT_EQ(a.q, b.q);
+  EXPECT_EQ(a.qdot, b.qdot);
+  for (const auto& [name, value] : b.energy)
+  {
+    EXPECT_EQ(a.energy.at(name), value) << name;
+  }
+}
+} // namespace
+
+TEST(StateFile, RoundTripIsExact)
+{
+  const StateHeader h = header(7, 11, 30);
+  const std::string path = temp("roundtrip.h5");
+  {
+    StateFileWriter w;
+    ASSERT_TRUE(w.create(path, h, {"residual"}).ok());
+    for (int t = 0; t < 25; ++t)
+    {
+      const Status s = w.append(frame(h, t));
+      ASSERT_TRUE(s.ok()) << s.message();
+    }
+  }
+  StateFileReader r;
+  const Status s = r.open(path);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(r.numberOfFrames(), 25);
+  EXPECT_EQ(r.header().model, "super-helix");
+  EXPECT_EQ(r.header().offsets, h.offsets);
+  EXPECT_EQ(r.header().coordinatesPerStrand, 30);
+  EXPECT_EQ(r.header().strandParameters.at("length"), h.strandParameters.at("length"));
+  EXPECT_EQ(r.header().attributes.at("time_step"), 1.0 / 30);
+  for (int t = 0; t < 25; ++t)
+  {
+    StateFrame f;
+    ASSERT_TRUE(r.readFrame(t, f).ok());
+    expectFrameEquals(f, frame(h, t));
+    EXPECT_EQ(r.energies().at("residual")[t], 1e-9 * t);
+  }
+  StateFrame f;
+  EXPECT_FALSE(r.readFrame(25, f).ok());
+}
+
+TEST(StateFile, LayoutIsTheDocumentedOne)
+{
+  // Read with HDF5's C API by the documented names only (what an h5py user does).
+  const StateHeader h = header(3, 4, 6);
+  const std::string path = temp("layout.h5");
+  {
+    StateFileWriter w;
+    ASSERT_TRUE(w.create(path, h, {"residual"}).ok());
+    for (int t = 0; t < 3; ++t)
+    {
+      ASSERT_TRUE(w.append(frame(h, t)).ok());
+    }
+  }
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char* name :
+       {"/time", "/strands/offsets", "/strands/length", "/frames/positions", "/frames/velocities",
+        "/frames/q", "/frames/qdot", "/energy/kinetic", "/energy/elastic", "/energy/gravitational",
+        "/energy/dissipated", "/energy/external_work"})
+  {
+    EXPECT_GT(H5Lexists(f, name, H5P_DEFAULT), 0) << name;
+  }
+  hid_t d = H5Dopen2(f, "/frames/positions", H5P_DEFAULT);
+  hid_t space = H5Dget_space(d);
+  hsize_t dims[3];
+  ASSERT_EQ(H5Sget_simple_extent_ndims(space), 3);
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  EXPECT_EQ(dims[0], 3u);
+  EXPECT_EQ(dims[1], 12u);
+  EXPECT_EQ(dims[2], 3u);
+  std::vector<double> all(3 * 12 * 3);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data());
+  // Frame 2, point 5: (2 + 0.005, −5, 1).
+  EXPECT_EQ(all[(2 * 12 + 5) * 3 + 0], 2.005);
+  EXPECT_EQ(all[(2 * 12 + 5) * 3 + 1], -5.0);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+TEST(StateFile, WriterKilledWithSigkillLeavesEveryWholeFrame)
+{
+  const StateHeader h = header(20, 41, 30);
+  const std::string path = temp("killed.h5");
+  std::remove(path.c_str());
+  int pipefd[2];
+  ASSERT_EQ(pipe(pipefd), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0)
+  {
+    close(pipefd[0]);
+    StateFileWriter w;
+    if (!w.create(path, h, {"residual"}))
+    {
+      _exit(2);
+    }
+    for (int t = 0;; ++t) // forever, until killed
+    {
+      if (!w.append(frame(h, t)))
+      {
+        _exit(3);
+      }
+      if (t == 40)
+      {
+        const char c = 'x';
+        (void)!write(pipefd[1], &c, 1); // 41 frames are on disk: the parent may kill now
+      }
+    }
+  }
+  close(pipefd[1]);
+  char c;
+  ASSERT_EQ(read(pipefd[0], &c, 1), 1);
+  usleep(20000); // let it be somewhere in the middle of a later frame
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  StateFileReader r;
+  const Status s = r.open(path);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_GE(r.numberOfFrames(), 41);
+  std::printf("killed writer: %lld whole frames read back\n", (long long)r.numberOfFrames());
+  for (std::int64_t t = 0; t < r.numberOfFrames(); ++t)
+  {
+    StateFrame f;
+    ASSERT_TRUE(r.readFrame(t, f).ok());
+    expectFrameEquals(f, frame(h, int(t)));
+  }
+}
+
+TEST(StateFile, ForeignDamagedAndMissingFilesAreRefused)
+{
+  const std::string text = temp("foreign.txt");
+  std::ofstream(text) << "this is not HDF5\n";
+  StateFileReader r;
+  Status s = r.open(text);
+  EXPECT_NE(s.message().find("not an HDF5 file"), std::string::npos) << s.message();
+
+  // An HDF5 file without the format attribute.
+  const std::string other = temp("other.h5");
+  hid_t f = H5Fcreate(other.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  H5Fclose(f);
+  s = r.open(other);
+  EXPECT_NE(s.message().find("not a HairDynamics state file"), std::string::npos) << s.message();
+
+  // A state file cut in half.
+  const StateHeader h = header(5, 9, 0);
+  const std::string whole = temp("whole.h5"), cut = temp("cut.h5");
+  {
+    StateFileWriter w;
+    ASSERT_TRUE(w.create(whole, h, {"residual"}).ok());
+    for (int t = 0; t < 10; ++t)
+    {
+      ASSERT_TRUE(w.append(frame(h, t)).ok());
+    }
+  }
+  {
+    std::ifstream in(whole, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  s = r.open(cut);
+  EXPECT_FALSE(s.ok());
+  std::printf("cut file: %s\n", s.message().c_str());
+  EXPECT_NE(s.message().find("damaged"), std::string::npos) << s.message();
+
+  s = r.open(temp("does-not-exist.h5"));
+  EXPECT_NE(s.message().find("cannot be opened"), std::string::npos) << s.message();
+  EXPECT_EQ(r.numberOfFrames(), 0);
+}
+
+TEST(StateFile, BadFramesAreRefusedAndEarlierFramesKept)
+{
+  const StateHeader h = header(2, 3, 0);
+  const std::string path = temp("nan.h5");
+  StateFileWriter w;
+  ASSERT_TRUE(w.create(path, h, {"residual"}).ok());
+  ASSERT_TRUE(w.append(frame(h, 0)).ok());
+  StateFrame bad = frame(h, 1);
+  bad.positions[2].y() = std::nan("");
+  Status s = w.append(bad);
+  EXPECT_NE(s.message().find("NaN"), std::string::npos) << s.message();
+  bad = frame(h, 1);
+  bad.velocities.pop_back();
+  s = w.append(bad);
+  EXPECT_NE(s.message().find("expected 6 positions"), std::string::npos) << s.message();
+  bad = frame(h, 1);
+  bad.energy["made_up"] = 1;
+  EXPECT_FALSE(w.append(bad).ok());
+  w.close();
+  StateFileReader r;
+  ASSERT_TRUE(r.open(path).ok());
+  EXPECT_EQ(r.numberOfFrames(), 1);
+
+  StateHeader none;
+  EXPECT_NE(w.create(path, none).message().find("no strands"), std::string::npos);
+  EXPECT_NE(w.create("/nonexistent-folder/x.h5", h).message().find("cannot be created"),
+            std::string::npos);
+}
