@@ -1,0 +1,53 @@
+#pragma once
+// Where guide strands grow: roots spread evenly over a region of a surface.
+#include "collision/TriangleMesh.h"
+#include "common/Status.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace hair
+{
+
+struct Root
+{
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY(); ///< unit, out of the surface
+  int triangle = -1;
+};
+
+struct RootSamplingOptions
+{
+  int count = 200;
+  std::uint32_t seed = 1;
+  /// Candidates drawn per root before the even selection (more: more even, slower).
+  int candidatesPerRoot = 8;
+};
+
+/// Spreads `count` roots evenly over the triangles of `mesh` where `region` is non-zero
+/// (all triangles when `region` is empty): candidates are drawn uniformly by area (seeded),
+/// then roots are picked one by one as the candidate farthest from those already picked
+/// (farthest-point sampling), which spaces them almost like a hexagonal packing. Normals are
+/// the triangles' (oriented as the mesh is; MeshQueries orients a closed mesh outwards).
+/// Refuses an empty region, a count below 1, and NaN.
+Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
+                   const RootSamplingOptions& options, std::vector<Root>& roots);
+
+/// Triangles whose centroid lies within `maxDistance` of `centre` and within `halfAngle`
+/// (radians) of `axis` seen from `centre` (a spherical cap, e.g. a scalp), and whose normal
+/// makes a cosine of at least `minFacing` with the direction from the centre (which leaves
+/// out the backs of ears and other creases facing the head).
+std::vector<std::uint8_t> capRegion(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+                                    const Eigen::Vector3d& axis, double halfAngle,
+                                    double maxDistance, double minFacing = -1);
+
+/// The scalp of the bundled body (Data/body.vtk): a cap about the head's centre
+/// (0, 1.555, 0.055), its axis tilted 36.5° back from +Y, half-angle 88°, within 0.16 m,
+/// on triangles facing within 60° of the direction from the centre:
+/// from the hairline at the top of the forehead (y ≈ 1.615) to the nape (y ≈ 1.49), above
+/// the ears. See docs/hair-strands.md for the picture.
+std::vector<std::uint8_t> bundledScalp(const TriangleMesh& mesh);
+
+} // namespace hair
