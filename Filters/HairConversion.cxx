@@ -1,9 +1,11 @@
 #include "HairConversion.h"
 
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
+#include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -12,6 +14,7 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
+#include <vtkTable.h>
 #include <vtkTriangleFilter.h>
 #include <vtkUnsignedCharArray.h>
 
@@ -316,6 +319,84 @@ void toSurface(const CollisionTable& table, vtkPolyData* surface)
   surface->GetPointData()->AddArray(radius);
   surface->GetPointData()->SetNormals(normals);
   surface->GetPointData()->SetActiveScalars(names::Radius);
+}
+
+void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands)
+{
+  const vtkIdType n = static_cast<vtkIdType>(frame.positions.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkSmartPointer<vtkDoubleArray> velocity =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Velocity", 3, n));
+  vtkSmartPointer<vtkDoubleArray> speed =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Speed", 1, n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    points->SetPoint(i, frame.positions[i].data());
+    const Eigen::Vector3d v =
+        i < vtkIdType(frame.velocities.size()) ? frame.velocities[i] : Eigen::Vector3d::Zero();
+    velocity->SetTuple(i, v.data());
+    speed->SetValue(i, v.norm());
+  }
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIdTypeArray> ids;
+  ids->SetName("StrandId");
+  const std::size_t strandsCount = header.numberOfStrands();
+  for (std::size_t k = 0; k < strandsCount; ++k)
+  {
+    const vtkIdType first = header.offsets[k], last = header.offsets[k + 1];
+    lines->InsertNextCell(last - first);
+    for (vtkIdType i = first; i < last; ++i)
+    {
+      lines->InsertCellPoint(i);
+    }
+    ids->InsertNextValue(static_cast<vtkIdType>(k));
+  }
+  strands->Initialize();
+  strands->SetPoints(points);
+  strands->SetLines(lines);
+  strands->GetPointData()->AddArray(velocity);
+  strands->GetPointData()->AddArray(speed);
+  strands->GetPointData()->SetActiveScalars("Speed");
+  strands->GetCellData()->AddArray(ids);
+  for (const auto& [name, values] : header.strandParameters)
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
+    for (std::size_t k = 0; k < values.size(); ++k)
+    {
+      a->SetValue(static_cast<vtkIdType>(k), values[k]);
+    }
+    strands->GetCellData()->AddArray(a);
+  }
+  addField(strands->GetFieldData(), "Time", {frame.time});
+}
+
+void toEnergyTable(const std::vector<double>& times,
+                   const std::map<std::string, std::vector<double>>& energies, vtkTable* table)
+{
+  table->Initialize();
+  vtkNew<vtkDoubleArray> time;
+  time->SetName("Time");
+  time->SetNumberOfTuples(static_cast<vtkIdType>(times.size()));
+  for (std::size_t i = 0; i < times.size(); ++i)
+  {
+    time->SetValue(static_cast<vtkIdType>(i), times[i]);
+  }
+  table->AddColumn(time);
+  for (const auto& [name, values] : energies)
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name.c_str());
+    column->SetNumberOfTuples(static_cast<vtkIdType>(times.size()));
+    for (std::size_t i = 0; i < times.size(); ++i)
+    {
+      column->SetValue(static_cast<vtkIdType>(i), i < values.size() ? values[i] : 0.0);
+    }
+    table->AddColumn(column);
+  }
 }
 
 } // namespace convert

@@ -4,11 +4,15 @@
 #include "collision/CollisionTable.h"
 #include "collision/TriangleMesh.h"
 #include "common/Status.h"
+#include "io/StateFile.h"
 
+#include <map>
 #include <string>
+#include <vector>
 
 class vtkImageData;
 class vtkPolyData;
+class vtkTable;
 
 namespace hair
 {
@@ -50,6 +54,15 @@ Status fromImage(vtkImageData* image, CollisionTable& table, std::string* bodyPa
 /// The surface the table represents (outer radii), as quads between neighbouring samples
 /// that met the body, with the Radius and Normals arrays, in world coordinates.
 void toSurface(const CollisionTable& table, vtkPolyData* surface);
+
+/// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
+/// Speed, cell data StrandId and every per-strand parameter; the frame's time in field data
+/// ("Time").
+void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands);
+
+/// One row per frame: Time, then one column per energy term.
+void toEnergyTable(const std::vector<double>& times,
+                   const std::map<std::string, std::vector<double>>& energies, vtkTable* table);
 
 } // namespace convert
 } // namespace hair

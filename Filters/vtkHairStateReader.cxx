@@ -1,0 +1,104 @@
+#include "vtkHairStateReader.h"
+
+#include "HairConversion.h"
+#include "io/StateFile.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkObjectFactory.h>
+#include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkTable.h>
+
+#include <algorithm>
+
+vtkStandardNewMacro(vtkHairStateReader);
+
+struct vtkHairStateReader::Internals
+{
+  hair::StateFileReader Reader;
+};
+
+vtkHairStateReader::vtkHairStateReader() : Internal(std::make_unique<Internals>())
+{
+  this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkHairStateReader::~vtkHairStateReader() = default;
+
+void vtkHairStateReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << this->FileName << "\n";
+}
+
+int vtkHairStateReader::CanReadFile(const char* fileName)
+{
+  hair::StateFileReader probe;
+  return fileName && probe.open(fileName).ok() ? 1 : 0;
+}
+
+int vtkHairStateReader::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+int vtkHairStateReader::RequestInformation(vtkInformation*, vtkInformationVector**,
+                                           vtkInformationVector* outputVector)
+{
+  // Opened anew each time: a file still being written has more frames every time.
+  const hair::Status s = this->Internal->Reader.open(this->FileName);
+  if (!s)
+  {
+    vtkErrorMacro(<< "Hair State Reader: " << s.message());
+    return 0;
+  }
+  const std::vector<double>& times = this->Internal->Reader.times();
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+  if (!times.empty())
+  {
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(),
+                 static_cast<int>(times.size()));
+    const double range[2] = {times.front(), times.back()};
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  }
+  return 1;
+}
+
+int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
+                                    vtkInformationVector* outputVector)
+{
+  hair::StateFileReader& reader = this->Internal->Reader;
+  vtkPolyData* strands = vtkPolyData::GetData(outputVector, 0);
+  vtkTable* energy = vtkTable::GetData(outputVector, 1);
+  const std::vector<double>& times = reader.times();
+  if (times.empty())
+  {
+    vtkWarningMacro(<< "Hair State Reader: '" << this->FileName << "' holds no whole frame yet.");
+    return 1;
+  }
+  // The frame at or before the requested time (the first one before the run starts).
+  std::int64_t frame = 0;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    const auto it = std::upper_bound(times.begin(), times.end(), t + 1e-12 * (1 + std::abs(t)));
+    frame = std::max<std::int64_t>(0, (it - times.begin()) - 1);
+  }
+  hair::StateFrame state;
+  if (hair::Status s = reader.readFrame(frame, state); !s)
+  {
+    vtkErrorMacro(<< "Hair State Reader: " << s.message());
+    return 0;
+  }
+  hair::convert::toStrands(reader.header(), state, strands);
+  hair::convert::toEnergyTable(times, reader.energies(), energy);
+  strands->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
+  return 1;
+}

@@ -1,0 +1,53 @@
+/**
+ * @class vtkHairStateReader
+ * @brief Reads a HairDynamics state file (HDF5) back over time, without simulating.
+ *
+ * hair::StateFileReader does the reading; this reader turns a frame into polylines.
+ * Output 0 (Strands): the strands at the requested time, one polyline per strand, point
+ * data Velocity (and Speed), cell data StrandId and every per-strand parameter of the file.
+ * Output 1 (Energy): a vtkTable with one row per frame, columns Time and every energy term.
+ * Reports TIME_STEPS (the frames' times); a request between frames gets the frame at or
+ * before it.
+ */
+#ifndef vtkHairStateReader_h
+#define vtkHairStateReader_h
+
+#include "HairDynamicsFiltersModule.h"
+
+#include <vtkPolyDataAlgorithm.h>
+
+#include <memory>
+#include <string>
+
+class HAIRDYNAMICSFILTERS_EXPORT vtkHairStateReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkHairStateReader* New();
+  vtkTypeMacro(vtkHairStateReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The state file (.h5) written by Hair Simulation.
+  vtkSetStdStringFromCharMacro(FileName);
+  vtkGetCharFromStdStringMacro(FileName);
+
+  /// 1 when `fileName` is a HairDynamics state file (ParaView's File > Open asks this).
+  int CanReadFile(const char* fileName);
+
+protected:
+  vtkHairStateReader();
+  ~vtkHairStateReader() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::string FileName;
+
+private:
+  vtkHairStateReader(const vtkHairStateReader&) = delete;
+  void operator=(const vtkHairStateReader&) = delete;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
