@@ -1,0 +1,176 @@
+#include "superhelix/HelixFunctions.h"
+
+#include <array>
+#include <cmath>
+
+namespace hair
+{
+
+namespace
+{
+constexpr int Terms = 12;
+// Below this |x| the series is used; above it the closed forms lose at most ~1e-13 to
+// cancellation, and 12 terms of the series are exact to round-off.
+constexpr double SeriesLimit = 1.5;
+
+struct SeriesTable
+{
+  std::array<std::array<double, Terms>, 7> c{};
+  SeriesTable()
+  {
+    auto fact = [](int n)
+    {
+      double f = 1;
+      for (int i = 2; i <= n; ++i)
+        f *= i;
+      return f;
+    };
+    for (int m = 0; m < Terms; ++m)
+    {
+      const double sg = (m % 2 == 0) ? 1.0 : -1.0;
+      c[0][m] = sg / fact(2 * m + 1);                             // phi0
+      c[1][m] = sg / fact(2 * m + 2);                             // phi1
+      c[2][m] = sg / fact(2 * m + 3);                             // phi2
+      c[3][m] = -sg * (2 * m + 2) / fact(2 * m + 4);              // psi1
+      c[4][m] = -sg * (2 * m + 2) / fact(2 * m + 5);              // psi2
+      c[5][m] = sg * (2 * m + 4) * (2 * m + 2) / fact(2 * m + 6); // chi1
+      c[6][m] = sg * (2 * m + 4) * (2 * m + 2) / fact(2 * m + 7); // chi2
+    }
+  }
+};
+
+const SeriesTable& table()
+{
+  static const SeriesTable t;
+  return t;
+}
+
+inline double horner(const std::array<double, Terms>& c, double y)
+{
+  double r = c[Terms - 1];
+  for (int m = Terms - 2; m >= 0; --m)
+    r = r * y + c[m];
+  return r;
+}
+} // namespace
+
+HelixCoefficients helixCoefficients(double x)
+{
+  HelixCoefficients h;
+  x = std::abs(x);
+  if (x < SeriesLimit)
+  {
+    const auto& t = table();
+    const double y = x * x;
+    h.phi0 = horner(t.c[0], y);
+    h.phi1 = horner(t.c[1], y);
+    h.phi2 = horner(t.c[2], y);
+    h.psi1 = horner(t.c[3], y);
+    h.psi2 = horner(t.c[4], y);
+    h.chi1 = horner(t.c[5], y);
+    h.chi2 = horner(t.c[6], y);
+    return h;
+  }
+  const double s = std::sin(x), c = std::cos(x);
+  const double x2 = x * x, x3 = x2 * x, x4 = x2 * x2;
+  h.phi0 = s / x;
+  h.phi1 = (1 - c) / x2;
+  h.phi2 = (x - s) / x3;
+  h.psi1 = (x * s - 2 + 2 * c) / x4;
+  h.psi2 = (3 * s - 2 * x - x * c) / (x4 * x);
+  h.chi1 = (x2 * c - 5 * x * s + 8 - 8 * c) / (x4 * x2);
+  h.chi2 = (8 * x + 7 * x * c + x2 * s - 15 * s) / (x4 * x3);
+  return h;
+}
+
+void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixPoint& out,
+                HelixCoefficients* coefficients)
+{
+  const double om2 = k.squaredNorm();
+  const HelixCoefficients h = helixCoefficients(std::sqrt(om2) * u);
+  if (coefficients)
+    *coefficients = h;
+  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u;
+  const double a = u2 * h.phi1, b = u3 * h.phi2;
+  const double da = u4 * h.psi1, db = u5 * h.psi2; // (da/dΩ)/Ω, (db/dΩ)/Ω
+  const Eigen::Vector3d e0 = Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d kxe0(0, k.z(), -k.y());   // k × e0
+  const Eigen::Vector3d w = k * k.x() - om2 * e0; // k × (k × e0)
+  out.g = u * e0 + a * kxe0 + b * w;
+  for (int i = 0; i < 3; ++i)
+  {
+    const Eigen::Vector3d ei = Eigen::Vector3d::Unit(i);
+    Eigen::Vector3d col = (da * k[i]) * kxe0 + a * ei.cross(e0) + (db * k[i]) * w;
+    Eigen::Vector3d bt = k.x() * ei - 2 * k[i] * e0;
+    if (i == 0)
+      bt += k;
+    out.dg.col(i) = col + b * bt;
+  }
+  // Second derivative along kd.
+  const double p = k.dot(kd), vv = kd.squaredNorm();
+  const double u6 = u3 * u3, u7 = u6 * u;
+  const double dda = u6 * h.chi1 * p * p + u4 * h.psi1 * vv;
+  const double ddb = u7 * h.chi2 * p * p + u5 * h.psi2 * vv;
+  const double da1 = da * p, db1 = db * p;
+  const Eigen::Vector3d vxe0(0, kd.z(), -kd.y());
+  out.d2g = dda * kxe0 + 2 * da1 * vxe0 + ddb * w +
+            2 * db1 * (kd * k.x() + k * kd.x() - 2 * p * e0) + b * (2 * kd.x() * kd - 2 * vv * e0);
+}
+
+void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixEnd& out)
+{
+  HelixCoefficients h;
+  helixPoint(k, kd, u, out, &h);
+  const double om2 = k.squaredNorm();
+  const double u2 = u * u, u3 = u2 * u;
+  const Eigen::Matrix3d K = skew(k);
+  const Eigen::Matrix3d K2 = k * k.transpose() - om2 * Eigen::Matrix3d::Identity();
+  out.E = Eigen::Matrix3d::Identity() + (u * h.phi0) * K + (u2 * h.phi1) * K2;
+  out.G = u * Eigen::Matrix3d::Identity() + (u2 * h.phi1) * K + (u3 * h.phi2) * K2;
+  // D(G v)[v] = da p (k × v) + db p k × (k × v) + b v × (k × v), with v = kd.
+  const double p = k.dot(kd);
+  const Eigen::Vector3d kxv = k.cross(kd);
+  out.dGk = (u2 * u2 * h.psi1 * p) * kxv + (u3 * u2 * h.psi2 * p) * k.cross(kxv) +
+            (u3 * h.phi2) * kd.cross(kxv);
+}
+
+} // namespace hair
+
+namespace hair
+{
+void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& v, double u,
+                   Eigen::Matrix3d& d2gW, Eigen::Matrix3d* dGkW,
+                   const HelixCoefficients* coefficients)
+{
+  // Polarization of the quadratic forms in helixPoint / helixEnd.
+  const double om2 = k.squaredNorm();
+  const HelixCoefficients h = coefficients ? *coefficients : helixCoefficients(std::sqrt(om2) * u);
+  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
+  const Eigen::Vector3d e0 = Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d kxe0(0, k.z(), -k.y());
+  const Eigen::Vector3d wk = k * k.x() - om2 * e0;
+  const Eigen::Vector3d vxe0(0, v.z(), -v.y());
+  const double pv = k.dot(v);
+  const Eigen::Vector3d kxv = k.cross(v);
+  for (int i = 0; i < 3; ++i)
+  {
+    const Eigen::Vector3d w = Eigen::Vector3d::Unit(i);
+    const double pw = k[i], vw = v[i];
+    const Eigen::Vector3d wxe0 = w.cross(e0);
+    d2gW.col(i) = (u6 * h.chi1 * pv * pw + u4 * h.psi1 * vw) * kxe0 +
+                  u4 * h.psi1 * (pv * wxe0 + pw * vxe0) +
+                  (u7 * h.chi2 * pv * pw + u5 * h.psi2 * vw) * wk +
+                  u5 * h.psi2 *
+                      (pv * (w * k.x() + k * w.x() - 2 * pw * e0) +
+                       pw * (v * k.x() + k * v.x() - 2 * pv * e0)) +
+                  u3 * h.phi2 * (v * w.x() + w * v.x() - 2 * vw * e0);
+    if (dGkW)
+    {
+      const Eigen::Vector3d kxw = k.cross(w);
+      dGkW->col(i) = 0.5 * (u4 * h.psi1 * (pw * kxv + pv * kxw) +
+                            u5 * h.psi2 * (pw * k.cross(kxv) + pv * k.cross(kxw)) +
+                            u3 * h.phi2 * (w.cross(kxv) + v.cross(kxw)));
+    }
+  }
+}
+} // namespace hair

@@ -1,0 +1,957 @@
+#include "superhelix/SuperHelix.h"
+
+#include "superhelix/HelixFunctions.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <thread>
+
+namespace hair
+{
+
+namespace
+{
+// 4-point Gauss–Legendre on [0, 1]: exact for polynomials of degree 7, hence for the
+// mass and force integrands of a straight element; sub-intervals keep Ω h <= π/4 on
+// curved ones (design note).
+constexpr int GaussPoints = 4;
+constexpr double GaussX[GaussPoints] = {
+    0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563, 0.5 + 0.5 * 0.3399810435848563,
+    0.5 + 0.5 * 0.8611363115940526};
+constexpr double GaussW[GaussPoints] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
+                                        0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
+constexpr double MaxTurnPerInterval = M_PI / 2;
+
+bool finite(const Eigen::MatrixXd& m)
+{
+  return m.allFinite();
+}
+
+// Deterministic on every platform (std::uniform_real_distribution is not).
+double uniformSigned(std::mt19937& g)
+{
+  return 2.0 * (static_cast<double>(g()) / 4294967296.0) - 1.0;
+}
+} // namespace
+
+Status RootState::validate() const
+{
+  if (!(position.allFinite() && velocity.allFinite() && acceleration.allFinite() &&
+        orientation.allFinite() && angularVelocity.allFinite() && angularAcceleration.allFinite()))
+    return Status::Error("RootState: a root position, velocity, acceleration, orientation or "
+                         "angular rate is not finite. Check the head motion.");
+  const double err =
+      (orientation.transpose() * orientation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (err > 1e-9 || orientation.determinant() < 0)
+    return Status::Error(
+        "RootState: orientation is not a rotation matrix (|FᵀF − I| = " + std::to_string(err) +
+        "). Give an orthonormal, right-handed frame (n0 = tangent).");
+  return Status::Ok();
+}
+
+StrandSpec StrandSpec::uniform(double length, int elements, const HairParameters& hair)
+{
+  StrandSpec s;
+  s.hair = hair;
+  if (elements > 0)
+    s.elementLengths.assign(static_cast<size_t>(elements), length / elements);
+  return s;
+}
+
+Status StrandSpec::validate() const
+{
+  const std::string who = "strand '" + name + "' (id " + std::to_string(id) + "): ";
+  if (elementLengths.empty())
+    return Status::Error(
+        who + "the number of elements N is 0; give at least one element length (N >= 1).");
+  if (elementLengths.size() > 10000)
+    return Status::Error(
+        who + "N = " + std::to_string(elementLengths.size()) +
+        " elements is more than 10000; the dense O(N²) model is meant for N <= 100.");
+  for (size_t i = 0; i < elementLengths.size(); ++i)
+  {
+    const double l = elementLengths[i];
+    if (!(std::isfinite(l) && l > 0))
+    {
+      std::ostringstream s;
+      s << who << "element " << i << " has length " << l
+        << "; every element length must be finite and > 0 metres.";
+      return Status::Error(s.str());
+    }
+  }
+  Status st = hair.validate();
+  if (!st)
+    return Status::Error(who + st.message());
+  if (!gravity.allFinite())
+    return Status::Error(who + "gravity is not finite; give a vector in m/s².");
+  if (!wind.allFinite())
+    return Status::Error(who + "wind is not finite; give a velocity in m/s.");
+  return Status::Ok();
+}
+
+std::string SuperHelix::where(double t0, double t1) const
+{
+  std::ostringstream s;
+  s << "strand '" << Spec.name << "' (id " << Spec.id << "), step from t = " << t0
+    << " s to t = " << t1 << " s: ";
+  return s.str();
+}
+
+RootState SuperHelix::rootState(double time) const
+{
+  return Spec.root ? Spec.root(time) : RootState{};
+}
+
+Status SuperHelix::initialize(const StrandSpec& spec, double time)
+{
+  Status st = spec.validate();
+  if (!st)
+    return st;
+  if (!std::isfinite(time))
+    return Status::Error("strand '" + spec.name + "': initial time is not finite.");
+  const RootState root = spec.root ? spec.root(time) : RootState{};
+  st = root.validate();
+  if (!st)
+    return Status::Error("strand '" + spec.name + "' at t = " + std::to_string(time) + ": " +
+                         st.message());
+
+  Spec = spec;
+  const int n = elementCount();
+  Length = 0;
+  Starts.resize(n + 1);
+  Starts[0] = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    Length += Spec.elementLengths[i];
+    Starts[i + 1] = Length;
+  }
+  RhoS = Spec.hair.linearDensity();
+  const Eigen::Vector3d k0 = Spec.hair.naturalCurvature();
+  const Eigen::Vector3d stiff = Spec.hair.stiffness();
+  std::mt19937 gen(Spec.seed);
+  Qrest.resize(3 * n);
+  Kdiag.resize(3 * n);
+  Gdiag.resize(3 * n);
+  for (int e = 0; e < n; ++e)
+  {
+    const double l = Spec.elementLengths[e];
+    for (int i = 0; i < 3; ++i)
+    {
+      const double var = Spec.hair.curvatureVariation * uniformSigned(gen);
+      Qrest[3 * e + i] = k0[i] * (1 + var);
+      Kdiag[3 * e + i] = stiff[i] * l;
+      Gdiag[3 * e + i] = Spec.hair.internalFriction * l;
+    }
+  }
+  Q = Qrest;
+  Qdot = Eigen::VectorXd::Zero(3 * n);
+  Time = time;
+  Energy = EnergyReport{};
+  M.resize(3 * n, 3 * n);
+  C.resize(3 * n, 3 * n);
+  Lhs.resize(3 * n, 3 * n);
+  F.resize(3 * n);
+  Initialized = true;
+  kinematics(Q, Qdot, root, Time, true, Cur);
+  CurValid = true;
+  Energy.time = Time;
+  Energy.kinetic = Cur.kinetic;
+  Energy.gravitational = Cur.gravitational;
+  Energy.elastic = elasticEnergy(Q);
+  return Status::Ok();
+}
+
+double SuperHelix::elasticEnergy(const Eigen::VectorXd& q) const
+{
+  return 0.5 * (Kdiag.array() * (q - Qrest).array().square()).sum();
+}
+
+void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                            const RootState& root, double time, bool withNodes,
+                            Kinematics& out) const
+{
+  const int n = elementCount();
+  out.root = root;
+  out.time = time;
+  out.elements.resize(n);
+  if (withNodes)
+    out.nodes.clear();
+  Eigen::Matrix3d Fr = root.orientation;
+  Eigen::Vector3d r = root.position, om = root.angularVelocity, v = root.velocity;
+  Eigen::Vector3d al = root.angularAcceleration, ac = root.acceleration;
+  HelixPoint hp;
+  HelixEnd he;
+  double kinetic = 0, grav = 0;
+  for (int e = 0; e < n; ++e)
+  {
+    const Eigen::Vector3d k = q.segment<3>(3 * e);
+    const Eigen::Vector3d kd = qd.segment<3>(3 * e);
+    const double l = Spec.elementLengths[e];
+    Element& el = out.elements[e];
+    el.F0 = Fr;
+    el.r0 = r;
+    el.omega0 = om;
+    el.v0 = v;
+    el.alpha0 = al;
+    el.acc0 = ac;
+    el.first = static_cast<int>(out.nodes.size());
+    el.count = 0;
+    if (withNodes)
+    {
+      const int nsub = std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
+      const double hsub = l / nsub;
+      for (int sI = 0; sI < nsub; ++sI)
+      {
+        for (int g = 0; g < GaussPoints; ++g)
+        {
+          Node nd;
+          nd.element = e;
+          nd.u = hsub * (sI + GaussX[g]);
+          nd.w = hsub * GaussW[g];
+          helixPoint(k, kd, nd.u, hp, &nd.coefficients);
+          const Eigen::Vector3d Fg = Fr * hp.g;
+          nd.J = Fr * hp.dg;
+          const Eigen::Vector3d Jkd = nd.J * kd;
+          nd.r = r + Fg;
+          nd.v = v + om.cross(Fg) + Jkd;
+          nd.a0 = ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * hp.d2g;
+          nd.v0 = root.velocity + root.angularVelocity.cross(nd.r - root.position);
+          nd.wind.setZero();
+          nd.contact.setZero();
+          kinetic += 0.5 * nd.w * RhoS * nd.v.squaredNorm();
+          grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
+          out.nodes.push_back(nd);
+        }
+      }
+      el.count = static_cast<int>(out.nodes.size()) - el.first;
+    }
+    helixEnd(k, kd, l, he);
+    const Eigen::Vector3d Fg = Fr * he.g;
+    const Eigen::Matrix3d FJ = Fr * he.dg;
+    const Eigen::Vector3d Jkd = FJ * kd;
+    const Eigen::Vector3d rEnd = r + Fg;
+    el.A = Fr * he.G;
+    el.jEnd = FJ;
+    el.jkdEnd = Jkd;
+    el.fgEnd = Fg;
+    for (int i = 0; i < 3; ++i)
+      el.W.col(i) = FJ.col(i) - el.A.col(i).cross(rEnd);
+    const Eigen::Vector3d Akd = el.A * kd;
+    el.akd = Akd;
+    const Eigen::Vector3d vEnd = v + om.cross(Fg) + Jkd;
+    const Eigen::Vector3d acEnd =
+        ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * he.d2g;
+    const Eigen::Vector3d alEnd = al + om.cross(Akd) + Fr * he.dGk;
+    om += Akd;
+    al = alEnd;
+    v = vEnd;
+    ac = acEnd;
+    r = rEnd;
+    Fr = Fr * he.E;
+  }
+  out.tip.F0 = Fr;
+  out.tip.r0 = r;
+  out.tip.v0 = v;
+  out.tip.omega0 = om;
+  out.tip.alpha0 = al;
+  out.tip.acc0 = ac;
+  out.kinetic = kinetic;
+  out.gravitational = grav;
+}
+
+int SuperHelix::locate(double s, double& u) const
+{
+  const int n = elementCount();
+  s = std::clamp(s, 0.0, Length);
+  int e =
+      static_cast<int>(std::upper_bound(Starts.data(), Starts.data() + n + 1, s) - Starts.data()) -
+      1;
+  e = std::clamp(e, 0, n - 1);
+  u = s - Starts[e];
+  return e;
+}
+
+Eigen::Vector3d SuperHelix::position(double s) const
+{
+  double u;
+  const int e = locate(s, u);
+  const Element& el = Cur.elements[e];
+  HelixPoint hp;
+  helixPoint(Q.segment<3>(3 * e), Qdot.segment<3>(3 * e), u, hp);
+  return el.r0 + el.F0 * hp.g;
+}
+
+Eigen::Matrix3d SuperHelix::frame(double s) const
+{
+  double u;
+  const int e = locate(s, u);
+  HelixEnd he;
+  helixEnd(Q.segment<3>(3 * e), Qdot.segment<3>(3 * e), u, he);
+  return Cur.elements[e].F0 * he.E;
+}
+
+Eigen::Vector3d SuperHelix::velocity(double s) const
+{
+  double u;
+  const int e = locate(s, u);
+  const Element& el = Cur.elements[e];
+  HelixPoint hp;
+  const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
+  helixPoint(Q.segment<3>(3 * e), kd, u, hp);
+  const Eigen::Vector3d Fg = el.F0 * hp.g;
+  return el.v0 + el.omega0.cross(Fg) + el.F0 * hp.dg * kd;
+}
+
+Eigen::Vector3d SuperHelix::accelerationAtRest(double s) const
+{
+  double u;
+  const int e = locate(s, u);
+  const Element& el = Cur.elements[e];
+  HelixPoint hp;
+  const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
+  helixPoint(Q.segment<3>(3 * e), kd, u, hp);
+  const Eigen::Vector3d Fg = el.F0 * hp.g;
+  const Eigen::Vector3d Jkd = el.F0 * hp.dg * kd;
+  return el.acc0 + el.alpha0.cross(Fg) + el.omega0.cross(el.omega0.cross(Fg)) +
+         2 * el.omega0.cross(Jkd) + el.F0 * hp.d2g;
+}
+
+Eigen::Matrix3Xd SuperHelix::jacobian(double s) const
+{
+  double u;
+  const int e = locate(s, u);
+  const int n = elementCount();
+  Eigen::Matrix3Xd J = Eigen::Matrix3Xd::Zero(3, 3 * n);
+  const Element& el = Cur.elements[e];
+  HelixPoint hp;
+  helixPoint(Q.segment<3>(3 * e), Qdot.segment<3>(3 * e), u, hp);
+  const Eigen::Vector3d r = el.r0 + el.F0 * hp.g;
+  for (int p = 0; p < e; ++p)
+    for (int i = 0; i < 3; ++i)
+      J.col(3 * p + i) = Cur.elements[p].A.col(i).cross(r) + Cur.elements[p].W.col(i);
+  J.middleCols<3>(3 * e) = el.F0 * hp.dg;
+  return J;
+}
+
+void SuperHelix::polyline(int perElement, std::vector<Eigen::Vector3d>& points) const
+{
+  perElement = std::max(1, perElement);
+  points.clear();
+  const int n = elementCount();
+  HelixPoint hp;
+  for (int e = 0; e < n; ++e)
+  {
+    const Element& el = Cur.elements[e];
+    for (int j = 0; j < perElement; ++j)
+    {
+      helixPoint(Q.segment<3>(3 * e), Qdot.segment<3>(3 * e),
+                 Spec.elementLengths[e] * j / perElement, hp);
+      points.push_back(el.r0 + el.F0 * hp.g);
+    }
+  }
+  points.push_back(Cur.tip.r0);
+}
+
+const std::vector<StrandSample>& SuperHelix::samples() const
+{
+  Samples.resize(Cur.nodes.size());
+  for (size_t i = 0; i < Cur.nodes.size(); ++i)
+  {
+    const Node& nd = Cur.nodes[i];
+    Samples[i].element = nd.element;
+    Samples[i].s = Starts[nd.element] + nd.u;
+    Samples[i].weight = nd.w;
+    Samples[i].position = nd.r;
+    Samples[i].velocity = nd.v;
+  }
+  return Samples;
+}
+
+void SuperHelix::reconstruct()
+{
+  kinematics(Q, Qdot, rootState(Time), Time, true, Cur);
+  CurValid = true;
+}
+
+Status SuperHelix::evaluateForces(Kinematics& k, double time)
+{
+  if (Spec.windField)
+    for (Node& nd : k.nodes)
+      nd.wind = Spec.windField(nd.r, time);
+  else
+    for (Node& nd : k.nodes)
+      nd.wind = Spec.wind;
+  if (Contacts)
+  {
+    const std::vector<StrandSample>& smp = samples();
+    ContactBuffer.assign(k.nodes.size(), Eigen::Vector3d::Zero());
+    Contacts(Spec.id, time, smp, ContactBuffer);
+    if (ContactBuffer.size() != k.nodes.size())
+      return Status::Error("the contact hook changed the size of the force buffer (" +
+                           std::to_string(ContactBuffer.size()) + " instead of " +
+                           std::to_string(k.nodes.size()) + "); write one force per sample.");
+    for (size_t i = 0; i < k.nodes.size(); ++i)
+      k.nodes[i].contact = ContactBuffer[i];
+  }
+  for (const Node& nd : k.nodes)
+    if (!nd.wind.allFinite() || !nd.contact.allFinite())
+      return Status::Error(std::string("the ") + (nd.wind.allFinite() ? "contact force" : "wind") +
+                           " at s = " + std::to_string(Starts[nd.element] + nd.u) +
+                           " m is not finite; check the wind field or contact hook.");
+  return Status::Ok();
+}
+
+void SuperHelix::assemble()
+{
+  const int n = elementCount();
+  const Kinematics& k = Cur;
+  // Explicit force per unit length: gravity, drag on the rigid (root-carried) velocity
+  // against the wind (the q̇-part of drag is implicit), inertia of the root motion and the
+  // velocity-dependent terms, contacts.
+  const double nu = Spec.hair.airFriction;
+  const Eigen::Vector3d gravity = RhoS * Spec.gravity;
+  // Tail sums, from the tip: force, torque, mass, first and second moments.
+  Eigen::Vector3d tailF = Eigen::Vector3d::Zero(), tailT = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tailC = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d tailTheta = Eigen::Matrix3d::Zero();
+  double tailM = 0;
+  // Per element: U_P, V_P such that block(Q < P) = A_Qᵀ U_P + W_Qᵀ V_P.
+  thread_local std::vector<Eigen::Matrix3d> U, V;
+  U.resize(n);
+  V.resize(n);
+  for (int e = n - 1; e >= 0; --e)
+  {
+    const Element& el = k.elements[e];
+    Eigen::Matrix3d Mloc = Eigen::Matrix3d::Zero(), X = Eigen::Matrix3d::Zero(),
+                    Y = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d floc = Eigen::Vector3d::Zero(), eF = Eigen::Vector3d::Zero(),
+                    eT = Eigen::Vector3d::Zero(), eC = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d eTheta = Eigen::Matrix3d::Zero();
+    double eM = 0;
+    for (int j = el.first; j < el.first + el.count; ++j)
+    {
+      const Node& nd = k.nodes[j];
+      const double wm = nd.w * RhoS;
+      const Eigen::Vector3d f = gravity - nu * (nd.v0 - nd.wind) - RhoS * nd.a0 + nd.contact;
+      floc.noalias() += nd.w * (nd.J.transpose() * f);
+      eF += nd.w * f;
+      eT += nd.w * nd.r.cross(f);
+      Mloc.noalias() += wm * (nd.J.transpose() * nd.J);
+      X.noalias() += wm * (skew(nd.r) * nd.J);
+      Y += wm * nd.J;
+      eM += wm;
+      eC += wm * nd.r;
+      eTheta += wm * (nd.r.squaredNorm() * Eigen::Matrix3d::Identity() - nd.r * nd.r.transpose());
+    }
+    // Generalized force of element e: own samples plus the rigid tail beyond it.
+    F.segment<3>(3 * e) = floc + el.A.transpose() * tailT + el.W.transpose() * tailF;
+    const Eigen::Matrix3d C = skew(tailC);
+    const Eigen::Matrix3d ThA = tailTheta * el.A;
+    M.block<3, 3>(3 * e, 3 * e) =
+        Mloc + el.A.transpose() * (ThA + C * el.W) + el.W.transpose() * (tailM * el.W - C * el.A);
+    U[e] = X + ThA + C * el.W;
+    V[e] = Y - C * el.A + tailM * el.W;
+    tailF += eF;
+    tailT += eT;
+    tailM += eM;
+    tailC += eC;
+    tailTheta += eTheta;
+  }
+  for (int p = 1; p < n; ++p)
+    for (int qq = 0; qq < p; ++qq)
+    {
+      const Element& eq = k.elements[qq];
+      const Eigen::Matrix3d b = eq.A.transpose() * U[p] + eq.W.transpose() * V[p];
+      M.block<3, 3>(3 * qq, 3 * p) = b;
+      M.block<3, 3>(3 * p, 3 * qq) = b.transpose();
+    }
+  // Symmetrize the diagonal blocks exactly (they are symmetric up to round-off).
+  for (int e = 0; e < n; ++e)
+  {
+    Eigen::Matrix3d d = M.block<3, 3>(3 * e, 3 * e);
+    M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
+  }
+}
+
+void SuperHelix::assembleVelocityJacobian()
+{
+  // C = ∂f/∂q̇ with f ∋ −ρS a0: a0 is quadratic in q̇ (plus root-coupled linear terms).
+  // A change δq̇ of element Q changes, at the start of each later element, the frame's
+  // angular velocity δω, its q̈ = 0 angular acceleration δα and the point's acceleration
+  // δa; inside an element the change at a sample is linear in those three:
+  //   δa0 = δa − [Fg]× δα + Φ δω,  Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]×,
+  // so per-element moments of these maps give each column block in O(N).
+  const int n = elementCount();
+  const Kinematics& k = Cur;
+  struct Maps
+  {
+    Eigen::Matrix3d Pc, Pl, Po, Sl, So, Tc, Tl, To, PhiEnd, FgEndX, AkdX;
+    double Sc;
+  };
+  thread_local std::vector<Maps> maps;
+  thread_local std::vector<Eigen::Matrix3d> RP, FP, MP;
+  maps.resize(n);
+  RP.resize(n);
+  FP.resize(n);
+  MP.resize(n);
+  auto phi = [](const Eigen::Vector3d& om, const Eigen::Vector3d& fg, const Eigen::Vector3d& jkd)
+  { return Eigen::Matrix3d(-skew(om.cross(fg)) - skew(om) * skew(fg) - 2 * skew(jkd)); };
+  for (int e = 0; e < n; ++e)
+  {
+    const Element& el = k.elements[e];
+    const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
+    Maps& m = maps[e];
+    m.Pc.setZero();
+    m.Pl.setZero();
+    m.Po.setZero();
+    m.Sl.setZero();
+    m.So.setZero();
+    m.Tc.setZero();
+    m.Tl.setZero();
+    m.To.setZero();
+    m.Sc = 0;
+    for (int j = el.first; j < el.first + el.count; ++j)
+    {
+      const Node& nd = k.nodes[j];
+      const Eigen::Vector3d fg = nd.r - el.r0;
+      const Eigen::Matrix3d fgX = skew(fg), rX = skew(nd.r);
+      const Eigen::Matrix3d Phi = phi(el.omega0, fg, nd.J * kd);
+      const Eigen::Matrix3d JtW = nd.w * nd.J.transpose();
+      m.Pc += JtW;
+      m.Pl.noalias() -= JtW * fgX;
+      m.Po.noalias() += JtW * Phi;
+      m.Sc += nd.w;
+      m.Sl -= nd.w * fgX;
+      m.So += nd.w * Phi;
+      m.Tc += nd.w * rX;
+      m.Tl.noalias() -= nd.w * (rX * fgX);
+      m.To.noalias() += nd.w * (rX * Phi);
+    }
+    m.PhiEnd = phi(el.omega0, el.fgEnd, el.jkdEnd);
+    m.FgEndX = skew(el.fgEnd);
+    m.AkdX = skew(el.akd);
+  }
+  Eigen::Matrix3d D2W, DGW;
+  for (int qe = 0; qe < n; ++qe)
+  {
+    const Element& eq = k.elements[qe];
+    const Eigen::Vector3d kq = Q.segment<3>(3 * qe), kdq = Qdot.segment<3>(3 * qe);
+    const Eigen::Matrix3d omX = skew(eq.omega0);
+    Eigen::Matrix3d ownR = Eigen::Matrix3d::Zero(), ownF = Eigen::Matrix3d::Zero(),
+                    ownM = Eigen::Matrix3d::Zero();
+    for (int j = eq.first; j < eq.first + eq.count; ++j)
+    {
+      const Node& nd = k.nodes[j];
+      helixBilinear(kq, kdq, nd.u, D2W, nullptr, &nd.coefficients);
+      const Eigen::Matrix3d delta = 2 * (omX * nd.J + eq.F0 * D2W);
+      ownR.noalias() += nd.w * (nd.J.transpose() * delta);
+      ownF += nd.w * delta;
+      ownM.noalias() += nd.w * (skew(nd.r) * delta);
+    }
+    helixBilinear(kq, kdq, Spec.elementLengths[qe], D2W, &DGW);
+    Eigen::Matrix3d Dw = eq.A;
+    Eigen::Matrix3d Dal = omX * eq.A + 2 * eq.F0 * DGW;
+    Eigen::Matrix3d Dac = 2 * (omX * eq.jEnd + eq.F0 * D2W);
+    RP[qe] = ownR;
+    FP[qe] = ownF;
+    MP[qe] = ownM;
+    for (int p = qe + 1; p < n; ++p)
+    {
+      const Maps& m = maps[p];
+      RP[p].noalias() = m.Pc * Dac + m.Pl * Dal + m.Po * Dw;
+      FP[p].noalias() = m.Sc * Dac + m.Sl * Dal + m.So * Dw;
+      MP[p].noalias() = m.Tc * Dac + m.Tl * Dal + m.To * Dw;
+      Dac += m.PhiEnd * Dw - m.FgEndX * Dal;
+      Dal -= m.AkdX * Dw;
+    }
+    Eigen::Matrix3d tailF = Eigen::Matrix3d::Zero(), tailM = Eigen::Matrix3d::Zero();
+    for (int p = n - 1; p >= 0; --p)
+    {
+      const Element& ep = k.elements[p];
+      Eigen::Matrix3d b = ep.A.transpose() * tailM + ep.W.transpose() * tailF;
+      if (p >= qe)
+      {
+        b += RP[p];
+        tailF += FP[p];
+        tailM += MP[p];
+      }
+      C.block<3, 3>(3 * p, 3 * qe) = -RhoS * b;
+    }
+  }
+}
+
+Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
+{
+  // (M + hΓ + h²𝕂 + h D_air − h C) q̇ⁿ⁺¹ = M q̇ⁿ + h (f − 𝕂 (qⁿ − q_rest) − C q̇ⁿ),
+  // with D_air = ν ∫ JᵀJ = (ν / ρS) M for a uniform strand and C = ∂f/∂q̇ (the
+  // velocity-dependent forces linearized about q̇ⁿ).
+  const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
+  Lhs = airScale * M - h * C;
+  Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
+  Eigen::VectorXd rhs =
+      M * Qdot + h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix() - C * Qdot);
+  Lu.compute(Lhs);
+  const double pivot = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
+  if (!(pivot > 1e-30 * Lhs.diagonal().cwiseAbs().maxCoeff()))
+    return Status::Error("the step's matrix is singular (smallest pivot " + std::to_string(pivot) +
+                         ")");
+  qdotNext = Lu.solve(rhs);
+  return Status::Ok();
+}
+
+Status SuperHelix::step(double dt)
+{
+  Status st = checkStep(dt);
+  if (!st)
+    return st;
+  // Sub-steps for stability, re-chosen before each sub-step from the current state.
+  const Eigen::VectorXd q0 = Q, qd0 = Qdot;
+  const double t0 = Time;
+  const EnergyReport e0 = Energy;
+  EnergyTerms sum;
+  double remaining = dt;
+  int taken = 0;
+  while (remaining > 0)
+  {
+    const int n = static_cast<int>(std::ceil(remaining / stabilityLimit() - 1e-9));
+    const double h = n <= 1 ? remaining : remaining / n;
+    st = taken < MaxSubsteps
+             ? singleStep(h)
+             : Status::Error(where(t0, t0 + dt) + "more than " + std::to_string(MaxSubsteps) +
+                             " stability sub-steps were needed; the previous state is "
+                             "kept. Check the root motion and forces.");
+    if (!st)
+    {
+      Q = q0;
+      Qdot = qd0;
+      Time = t0;
+      Energy = e0;
+      reconstruct();
+      return st;
+    }
+    ++taken;
+    remaining = n <= 1 ? 0 : remaining - h;
+    const EnergyTerms& l = Energy.lastStep;
+    sum.frictionDissipated += l.frictionDissipated;
+    sum.airDissipated += l.airDissipated;
+    sum.rootWork += l.rootWork;
+    sum.windWork += l.windWork;
+    sum.contactWork += l.contactWork;
+    sum.residual += l.residual;
+  }
+  Time = t0 + dt; // exact end time, whatever the sub-steps' round-off
+  Energy.time = Time;
+  Energy.lastStep = sum;
+  LastSubsteps = taken;
+  return Status::Ok();
+}
+
+Status SuperHelix::checkStep(double dt) const
+{
+  if (!Initialized)
+    return Status::Error("SuperHelix::step: the strand is not initialized; call initialize().");
+  if (!(std::isfinite(dt) && dt > 0))
+  {
+    std::ostringstream s;
+    s << "strand '" << Spec.name << "' (id " << Spec.id << ") at t = " << Time << " s: dt = " << dt
+      << " is invalid; the time step must be finite and > 0 seconds "
+      << "(1/30 is stable for every preset).";
+    return Status::Error(s.str());
+  }
+  return Status::Ok();
+}
+
+double SuperHelix::stabilityLimit()
+{
+  if (!CurValid)
+    reconstruct();
+  // Stability sub-steps. The step is implicit in the elastic, friction and drag forces
+  // and linearized in the velocity-dependent ones, but the position dependence of the
+  // loads (gravity, root and centrifugal accelerations) stays explicit: a strand whose
+  // bending is weak against that load behaves like a chain whose pendulum modes, of
+  // angular frequency √(|g − a0| / ℓ), need h √(|g − a0| / ℓ) small. StabilityFactor 0.5
+  // was measured with margin (0.7 passed the 20 s head shake for every preset, 1.0 failed).
+  double load = 0;
+  for (const Node& nd : Cur.nodes)
+    load = std::max(load, (Spec.gravity - nd.a0).norm());
+  double shortest = Length;
+  for (double l : Spec.elementLengths)
+    shortest = std::min(shortest, l);
+  // The velocity-dependent forces are linearized, which leaves an error quadratic in the
+  // change of q̇ over the step; it stays small while no frame turns by more than about
+  // half a radian in one sub-step.
+  double spin = 0;
+  for (const Element& el : Cur.elements)
+    spin = std::max(spin, (el.omega0 - Cur.root.angularVelocity).norm());
+  spin = std::max(spin, (Cur.tip.omega0 - Cur.root.angularVelocity).norm());
+  const double hMax = StabilityFactor * std::min(std::sqrt(shortest / std::max(load, 1e-12)),
+                                                 1.0 / std::max(spin, 1e-12));
+  return hMax;
+}
+
+Status SuperHelix::stepCount(double dt, int count)
+{
+  if (count == 1)
+    return singleStep(dt);
+  const Eigen::VectorXd q0 = Q, qd0 = Qdot;
+  const double t0 = Time;
+  const EnergyReport e0 = Energy;
+  EnergyTerms sum;
+  for (int i = 0; i < count; ++i)
+  {
+    const Status st = singleStep(dt / count);
+    if (!st)
+    {
+      Q = q0;
+      Qdot = qd0;
+      Time = t0;
+      Energy = e0;
+      reconstruct();
+      return st;
+    }
+    const EnergyTerms& l = Energy.lastStep;
+    sum.frictionDissipated += l.frictionDissipated;
+    sum.airDissipated += l.airDissipated;
+    sum.rootWork += l.rootWork;
+    sum.windWork += l.windWork;
+    sum.contactWork += l.contactWork;
+    sum.residual += l.residual;
+  }
+  Energy.lastStep = sum;
+  LastSubsteps = count;
+  return Status::Ok();
+}
+
+Status SuperHelix::singleStep(double h)
+{
+  LastSubsteps = 1;
+  if (!Initialized)
+    return Status::Error("SuperHelix::step: the strand is not initialized; call initialize().");
+  if (!(std::isfinite(h) && h > 0))
+  {
+    std::ostringstream s;
+    s << "strand '" << Spec.name << "' (id " << Spec.id << ") at t = " << Time << " s: dt = " << h
+      << " is invalid; the time step must be finite and > 0 seconds "
+      << "(1/30 is stable for every preset).";
+    return Status::Error(s.str());
+  }
+  const double t0 = Time, t1 = Time + h;
+  if (!CurValid)
+    reconstruct();
+  Status st = evaluateForces(Cur, t0);
+  if (!st)
+    return Status::Error(where(t0, t1) + st.message());
+  assemble();
+  assembleVelocityJacobian();
+  if (!finite(M) || !F.allFinite() || !finite(C))
+    return Status::Error(
+        where(t0, t1) +
+        "the mass matrix or generalized forces are not finite; the previous state is kept. "
+        "Check the root motion and forces.");
+  Eigen::VectorXd qdN;
+  st = solve(h, qdN);
+  if (!st)
+    return Status::Error(where(t0, t1) + st.message() + "; the previous state is kept.");
+  const Eigen::VectorXd qN = Q + h * qdN;
+  if (!qN.allFinite() || !qdN.allFinite())
+    return Status::Error(
+        where(t0, t1) +
+        "the step blew up (non-finite curvature); the previous state is kept. Reduce dt or "
+        "check the forces.");
+  // A fibre cannot bend tighter than its own radius: past that the model is meaningless.
+  const double limit = 1.0 / Spec.hair.radius;
+  for (int e = 0; e < elementCount(); ++e)
+  {
+    const double om = qN.segment<3>(3 * e).norm();
+    if (om > limit)
+    {
+      std::ostringstream s;
+      s << where(t0, t1) << "the step blew up: element " << e << " reached curvature " << om
+        << " 1/m, tighter than 1/radius = " << limit
+        << " 1/m; the previous state is kept. Reduce dt or check the forces.";
+      return Status::Error(s.str());
+    }
+  }
+  const RootState rootN = rootState(t1);
+  st = rootN.validate();
+  if (!st)
+    return Status::Error(where(t0, t1) + st.message());
+
+  // Energy flows over the step, at the configuration of tⁿ with the velocity of the step
+  // ṽ = v0 + J q̇ⁿ⁺¹ and the acceleration r̈ = a0 + J q̈, q̈ = (q̇ⁿ⁺¹ − q̇ⁿ)/h.
+  EnergyTerms flow;
+  {
+    const Eigen::VectorXd qdd = (qdN - Qdot) / h;
+    const double nu = Spec.hair.airFriction;
+    Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
+    Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sw = Eigen::Vector3d::Zero();
+    for (int e = 0; e < elementCount(); ++e)
+    {
+      const Element& el = Cur.elements[e];
+      const Eigen::Vector3d x = qdN.segment<3>(3 * e), y = qdd.segment<3>(3 * e);
+      for (int j = el.first; j < el.first + el.count; ++j)
+      {
+        const Node& nd = Cur.nodes[j];
+        const Eigen::Vector3d vt = nd.v0 + pa.cross(nd.r) + pw + nd.J * x;
+        const Eigen::Vector3d rdd = nd.a0 + sa.cross(nd.r) + sw + nd.J * y;
+        const Eigen::Vector3d rel = vt - nd.wind;
+        flow.airDissipated += h * nd.w * nu * rel.squaredNorm();
+        flow.windWork -= h * nd.w * nu * rel.dot(nd.wind);
+        flow.contactWork += h * nd.w * nd.contact.dot(vt);
+        const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + nd.contact;
+        flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
+      }
+      pa += el.A * x;
+      pw += el.W * x;
+      sa += el.A * y;
+      sw += el.W * y;
+    }
+    flow.frictionDissipated = h * (Gdiag.array() * qdN.array().square()).sum();
+  }
+
+  kinematics(qN, qdN, rootN, t1, true, Next);
+  const double elastic = elasticEnergy(qN);
+  const double e0 = Energy.mechanical();
+  const double e1 = Next.kinetic + elastic + Next.gravitational;
+  if (!std::isfinite(e1))
+    return Status::Error(where(t0, t1) + "the energy is not finite; the previous state is kept.");
+  flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork +
+                  flow.frictionDissipated + flow.airDissipated;
+
+  // Commit.
+  Q = qN;
+  Qdot = qdN;
+  Time = t1;
+  std::swap(Cur, Next);
+  CurValid = true;
+  Energy.time = t1;
+  Energy.kinetic = Cur.kinetic;
+  Energy.gravitational = Cur.gravitational;
+  Energy.elastic = elastic;
+  Energy.lastStep = flow;
+  Energy.total.frictionDissipated += flow.frictionDissipated;
+  Energy.total.airDissipated += flow.airDissipated;
+  Energy.total.rootWork += flow.rootWork;
+  Energy.total.windWork += flow.windWork;
+  Energy.total.contactWork += flow.contactWork;
+  Energy.total.residual += flow.residual;
+  return Status::Ok();
+}
+
+Status SuperHelix::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdot)
+{
+  if (!Initialized)
+    return Status::Error("SuperHelix::setState: the strand is not initialized.");
+  const int n = 3 * elementCount();
+  if (q.size() != n || qdot.size() != n)
+    return Status::Error("strand '" + Spec.name +
+                         "': setState needs q and qdot of size 3N = " + std::to_string(n) + ".");
+  if (!q.allFinite() || !qdot.allFinite())
+    return Status::Error("strand '" + Spec.name + "': setState got non-finite q or qdot.");
+  Q = q;
+  Qdot = qdot;
+  reconstruct();
+  Energy.time = Time;
+  Energy.kinetic = Cur.kinetic;
+  Energy.gravitational = Cur.gravitational;
+  Energy.elastic = elasticEnergy(Q);
+  return Status::Ok();
+}
+
+Status SuperHelix::advance(double dt, double tolerance, int maxDepth)
+{
+  if (!(tolerance > 0))
+    return step(dt);
+  Status st = checkStep(dt);
+  if (!st)
+    return st;
+  // Step doubling: n sub-steps against 2n, on every element end, doubling n until they
+  // agree within `tolerance`; the finer result is kept.
+  int n =
+      std::min(MaxSubsteps, std::max(1, static_cast<int>(std::ceil(dt / stabilityLimit() - 1e-9))));
+  const Eigen::VectorXd q0 = Q, qd0 = Qdot;
+  const double t0 = Time;
+  const EnergyReport en0 = Energy;
+  auto restore = [&]()
+  {
+    Q = q0;
+    Qdot = qd0;
+    Time = t0;
+    Energy = en0;
+    reconstruct();
+  };
+  auto ends = [&]()
+  {
+    std::vector<Eigen::Vector3d> e;
+    for (const Element& el : Cur.elements)
+      e.push_back(el.r0);
+    e.push_back(Cur.tip.r0);
+    return e;
+  };
+  Status prev = stepCount(dt, n);
+  std::vector<Eigen::Vector3d> prevEnds;
+  if (prev)
+    prevEnds = ends();
+  for (int depth = 0; depth < maxDepth; ++depth)
+  {
+    restore();
+    n *= 2;
+    st = stepCount(dt, n);
+    if (st && prev)
+    {
+      const std::vector<Eigen::Vector3d> e = ends();
+      double err = 0;
+      for (size_t i = 0; i < e.size(); ++i)
+        err = std::max(err, (e[i] - prevEnds[i]).norm());
+      if (err <= tolerance)
+        return Status::Ok();
+      prevEnds = e;
+    }
+    else if (st)
+      prevEnds = ends();
+    prev = st;
+  }
+  if (!st)
+    restore();
+  return st;
+}
+
+Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, double tolerance)
+{
+  const int count = static_cast<int>(strands.size());
+  std::vector<Status> results(strands.size());
+  threads = std::max(1, std::min(threads, count));
+  std::atomic<int> next{0};
+  auto work = [&]()
+  {
+    for (int i = next++; i < count; i = next++)
+      results[i] = strands[i].advance(dt, tolerance);
+  };
+  if (threads == 1)
+    work();
+  else
+  {
+    std::vector<std::thread> pool;
+    try
+    {
+      for (int t = 1; t < threads; ++t)
+        pool.emplace_back(work);
+    }
+    catch (...)
+    {
+      // No more threads available: the calling thread does the rest.
+    }
+    work();
+    for (auto& th : pool)
+      th.join();
+  }
+  for (const Status& s : results)
+    if (!s)
+      return s;
+  return Status::Ok();
+}
+
+} // namespace hair

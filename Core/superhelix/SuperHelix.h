@@ -1,0 +1,215 @@
+#pragma once
+// One hair strand as a Super-Helix (Bertails, Audoly, Cani, Querleux, Leroy, Lévêque,
+// "Super-Helices for predicting the dynamics of natural hair", ACM TOG 25(3), 2006):
+// N helical elements with constant twist and curvatures q = (τ, κ1, κ2) per element,
+// clamped at a moving root, advanced by the paper's semi-implicit step. The equations are
+// in docs/super-helix.md. No VTK, no printing, no exceptions across the API.
+#include "common/Status.h"
+#include "superhelix/HairParameters.h"
+#include "superhelix/HelixFunctions.h"
+#include "superhelix/RootMotion.h"
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+/// Wind velocity at a world position and time. Must be safe to call from several threads.
+using AirVelocityField = std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
+
+/// Everything that defines a strand before it moves.
+struct StrandSpec
+{
+  std::string name = "strand";
+  int id = 0;
+  std::vector<double> elementLengths; ///< ℓ_Q [m], N = size(), each > 0
+  HairParameters hair;
+  std::uint32_t seed = 1; ///< for the natural-curvature variation
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, unless windField
+  AirVelocityField windField;                            ///< optional, overrides `wind`
+  RootMotion root; ///< empty: fixed at RootState{} (root at the origin, tangent +x)
+
+  /// A strand of `elements` equal elements of total length `length`.
+  static StrandSpec uniform(double length, int elements, const HairParameters& hair);
+  Status validate() const;
+};
+
+/// A quadrature sample along the strand, where distributed forces are evaluated.
+struct StrandSample
+{
+  int element = 0;
+  double s = 0;      ///< arc length from the root [m]
+  double weight = 0; ///< quadrature weight [m]: ∫ f ds ≈ Σ weight · f(sample)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+/// Contact hook: given the samples at the start of a (sub-)step, write a force per unit
+/// length [N/m] for each sample (the vector arrives sized and zeroed). Called once per
+/// sub-step (see SuperHelix::step) from the thread that steps this strand.
+using ContactForces =
+    std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
+                       std::vector<Eigen::Vector3d>& forcePerLength)>;
+
+/// Energies [J]. State energies are at `time`; the work terms are over the last step and
+/// accumulated since initialize(). The budget, which closes by construction of `residual`:
+///   Δ(kinetic + elastic + gravitational) = rootWork + windWork + contactWork
+///                                          − frictionDissipated − airDissipated + residual
+/// residual is what the time integrator itself adds (< 0: numerical dissipation).
+struct EnergyTerms
+{
+  double frictionDissipated = 0;
+  double airDissipated = 0;
+  double rootWork = 0;
+  double windWork = 0;
+  double contactWork = 0;
+  double residual = 0;
+};
+
+struct EnergyReport
+{
+  double time = 0;
+  double kinetic = 0;
+  double elastic = 0;
+  double gravitational = 0; ///< −∫ ρS g·r ds (zero at the origin)
+  EnergyTerms lastStep;
+  EnergyTerms total;
+  double mechanical() const { return kinetic + elastic + gravitational; }
+};
+
+class SuperHelix
+{
+public:
+  /// Validates the spec, draws the natural curvature, puts the strand at rest in its
+  /// natural shape at `time`. On error the strand is left as it was.
+  Status initialize(const StrandSpec& spec, double time = 0);
+
+  /// One step of size dt [s] (semi-implicit, velocity terms linearized; see
+  /// docs/super-helix.md), split automatically into as many stability sub-steps as the
+  /// current load and spin need (lastSubsteps()). On error (bad dt, a root or force
+  /// callback returning non-finite values, a step that blows up) the state is unchanged
+  /// and the message names the strand and the time.
+  Status step(double dt);
+
+  /// Advances by dt; with tolerance > 0 [m], sub-steps (step doubling: n sub-steps
+  /// against 2n, n doubling) until both agree on every element end within `tolerance`,
+  /// at most maxDepth doublings. With tolerance <= 0 it is step(dt).
+  Status advance(double dt, double tolerance, int maxDepth = 8);
+
+  /// Replaces q and q̇ (sizes 3N, finite). Energies are recomputed; totals are kept.
+  Status setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdot);
+  void setContactForces(ContactForces hook) { Contacts = std::move(hook); }
+
+  const StrandSpec& spec() const { return Spec; }
+  int elementCount() const { return static_cast<int>(Spec.elementLengths.size()); }
+  double length() const { return Length; }
+  double time() const { return Time; }
+  const Eigen::VectorXd& q() const { return Q; }
+  const Eigen::VectorXd& qdot() const { return Qdot; }
+  const Eigen::VectorXd& restCurvature() const { return Qrest; }
+  /// Diagonals of 𝕂 = diag(EI_i ℓ_Q) and Γ = diag(γ ℓ_Q).
+  const Eigen::VectorXd& stiffnessDiagonal() const { return Kdiag; }
+  const Eigen::VectorXd& frictionDiagonal() const { return Gdiag; }
+  const EnergyReport& energy() const { return Energy; }
+  RootState rootState(double time) const;
+
+  /// Reconstruction at arc length s ∈ [0, L] (clamped) for the current state.
+  Eigen::Vector3d position(double s) const;
+  Eigen::Matrix3d frame(double s) const; ///< columns n0 (tangent), n1, n2
+  Eigen::Vector3d velocity(double s) const;
+  /// ∂r(s)/∂q: 3 × 3N, exact (closed form).
+  Eigen::Matrix3Xd jacobian(double s) const;
+  /// Acceleration of the point s when q̈ = 0 (root motion, centrifugal, Coriolis).
+  Eigen::Vector3d accelerationAtRest(double s) const;
+  /// Element ends r(s_0 = 0), …, r(s_N), plus `perElement − 1` points inside each element.
+  void polyline(int perElement, std::vector<Eigen::Vector3d>& points) const;
+  /// Quadrature samples for the current state.
+  const std::vector<StrandSample>& samples() const;
+
+  /// The pieces of one sub-step, exposed for tests and for the benchmark's breakdown.
+  /// solve() uses the M, f and C assembled last for the current state.
+  void reconstruct();                                 ///< kinematics at every sample (time())
+  void assemble();                                    ///< M and the explicit generalized force f
+  void assembleVelocityJacobian();                    ///< C = ∂f/∂q̇ (after assemble)
+  Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
+  const Eigen::MatrixXd& massMatrix() const { return M; }
+  const Eigen::VectorXd& generalizedForce() const { return F; }
+  const Eigen::MatrixXd& velocityJacobian() const { return C; }
+  /// Sub-steps the last step() took for stability (1 when the load is mild).
+  int lastSubsteps() const { return LastSubsteps; }
+
+  /// h_max = StabilityFactor · min(√(ℓ_min / max |g − r̈₀|), 1 / max |ω − ω_root|).
+  static constexpr double StabilityFactor = 0.5;
+  static constexpr int MaxSubsteps = 256;
+
+private:
+  struct Node
+  {
+    int element;
+    double u, w;
+    Eigen::Vector3d r, v, v0, a0, wind, contact;
+    Eigen::Matrix3d J;
+    HelixCoefficients coefficients;
+  };
+  struct Element
+  {
+    Eigen::Matrix3d F0; // frame at the start
+    Eigen::Vector3d r0, omega0, v0, alpha0, acc0;
+    Eigen::Matrix3d A, W; // tail Jacobian: J_iQ(s) = A_i × r(s) + W_i past the element
+    Eigen::Matrix3d jEnd; // F0 ∂g/∂k at the end
+    Eigen::Vector3d jkdEnd, fgEnd, akd;
+    int first, count;
+  };
+  struct Kinematics
+  {
+    RootState root;
+    double time = 0;
+    std::vector<Element> elements;
+    std::vector<Node> nodes;
+    Element tip; // frame and point at s = L
+    double kinetic = 0, gravitational = 0;
+  };
+
+  void kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const RootState& root,
+                  double time, bool withNodes, Kinematics& out) const;
+  int locate(double s, double& u) const;
+  Status evaluateForces(Kinematics& k, double time);
+  Status singleStep(double h);
+  Status stepCount(double dt, int count);
+  Status checkStep(double dt) const;
+  double stabilityLimit(); ///< h_max for the current state (see step())
+  double elasticEnergy(const Eigen::VectorXd& q) const;
+  std::string where(double t0, double t1) const;
+
+  StrandSpec Spec;
+  double Length = 0;
+  double Time = 0;
+  double RhoS = 0;
+  Eigen::VectorXd Q, Qdot, Qrest, Kdiag, Gdiag, Starts;
+  EnergyReport Energy;
+  ContactForces Contacts;
+  bool Initialized = false;
+  int LastSubsteps = 1;
+
+  Kinematics Cur, Next;
+  bool CurValid = false;
+  mutable std::vector<StrandSample> Samples;
+  Eigen::MatrixXd M, C, Lhs;
+  Eigen::VectorXd F;
+  Eigen::PartialPivLU<Eigen::MatrixXd> Lu;
+  std::vector<Eigen::Vector3d> ContactBuffer;
+};
+
+/// Steps every strand by dt on `threads` threads (std::thread; 1: the calling thread
+/// only). Returns the first error in strand order; strands that failed keep their state,
+/// the others are advanced.
+Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, double tolerance = 0);
+
+} // namespace hair

@@ -1,0 +1,240 @@
+// Reconstruction, Jacobian, velocity-dependent terms and mass matrix of the Super-Helix
+// model, each checked against an independent computation: finite differences of the
+// reconstruction (allowed in tests only), brute-force quadrature, and the analytic helix.
+#include "superhelix/HelixFunctions.h"
+#include "superhelix/SuperHelix.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <random>
+
+using namespace hair;
+
+namespace
+{
+HairParameters plainHair()
+{
+  HairParameters p = HairParameters::preset(HairType::Smooth);
+  p.curvatureVariation = 0;
+  return p;
+}
+
+// A curled strand with a moving root: every term of the kinematics is exercised.
+struct Curled
+{
+  StrandSpec spec;
+  Eigen::VectorXd q, qd;
+  Curled()
+  {
+    spec = StrandSpec::uniform(0.1, 4, plainHair());
+    spec.elementLengths = {0.02, 0.035, 0.025, 0.02}; // unequal lengths
+    HeadShake shake;
+    shake.axis = Eigen::Vector3d(0.3, 1, 0.2);
+    shake.frequency = 1.3;
+    shake.amplitude = 0.4;
+    spec.root = shake;
+    std::mt19937 g(7);
+    std::uniform_real_distribution<double> d(-1, 1);
+    q.resize(12);
+    qd.resize(12);
+    for (int i = 0; i < 12; ++i)
+    {
+      q[i] = 40 * d(g); // up to 40 1/m: about 1 rad per element, curved branch
+      qd[i] = 20 * d(g);
+    }
+    q[3] = 1e-7; // a nearly straight element: the series branch
+    q[4] = -2e-7;
+    q[5] = 0;
+  }
+  SuperHelix make(double t, const Eigen::VectorXd& qq) const
+  {
+    SuperHelix h;
+    EXPECT_TRUE(h.initialize(spec, t).ok());
+    EXPECT_TRUE(h.setState(qq, qd).ok());
+    return h;
+  }
+};
+} // namespace
+
+TEST(SuperHelixKinematics, SeriesAndClosedFormsAgreeAtTheSwitch)
+{
+  // The series (x < 1.5) and the closed forms must be the same function: compare both
+  // sides of the switch, 2e-12 apart (slopes are < 0.1, so that moves values by < 2e-13).
+  // 1e-12 is the closed forms' cancellation error there (~1e-16 · 15 / (χ2 x⁷)); a wrong
+  // series coefficient would jump by far more than 1e-6.
+  const double eps = 1e-12;
+  const HelixCoefficients a = helixCoefficients(1.5 - eps), b = helixCoefficients(1.5 + eps);
+  EXPECT_NEAR(a.phi0, b.phi0, 1e-12);
+  EXPECT_NEAR(a.phi1, b.phi1, 1e-12);
+  EXPECT_NEAR(a.phi2, b.phi2, 1e-12);
+  EXPECT_NEAR(a.psi1, b.psi1, 1e-12);
+  EXPECT_NEAR(a.psi2, b.psi2, 1e-12);
+  EXPECT_NEAR(a.chi1, b.chi1, 1e-12);
+  EXPECT_NEAR(a.chi2, b.chi2, 1e-12);
+  // Values at 0 from the Taylor series of sin and cos.
+  const HelixCoefficients z = helixCoefficients(0);
+  EXPECT_DOUBLE_EQ(z.phi1, 0.5);
+  EXPECT_DOUBLE_EQ(z.psi1, -1.0 / 12);
+  EXPECT_DOUBLE_EQ(z.chi2, 1.0 / 630);
+}
+
+TEST(SuperHelixKinematics, JacobianMatchesFiniteDifferences)
+{
+  const Curled c;
+  SuperHelix h = c.make(0.3, c.q);
+  const double L = h.length();
+  // Central differences with step 1e-3 1/m: truncation ~ε² ℓ⁴ |∂³r|, round-off ~1e-16/ε;
+  // both below 1e-9 m per (1/m). The Jacobian entries are O(ℓ²) ~ 1e-4 to 1e-2.
+  const double eps = 1e-3;
+  for (double s : {0.0, 0.013, 0.02, 0.041, 0.055, 0.08, 0.0999, L})
+  {
+    const Eigen::Matrix3Xd J = h.jacobian(s);
+    for (int a = 0; a < 12; ++a)
+    {
+      Eigen::VectorXd qp = c.q, qm = c.q;
+      qp[a] += eps;
+      qm[a] -= eps;
+      const Eigen::Vector3d fd =
+          (c.make(0.3, qp).position(s) - c.make(0.3, qm).position(s)) / (2 * eps);
+      EXPECT_LT((J.col(a) - fd).norm(), 1e-9) << "s = " << s << ", coordinate " << a;
+    }
+  }
+}
+
+TEST(SuperHelixKinematics, VelocityAndRestAccelerationMatchTimeDifferences)
+{
+  // r(t) with q(t) = q + (t − t0) q̇ and the root moving: ṙ = velocity(s), and r̈ with q̈ = 0
+  // is accelerationAtRest(s) (root acceleration, centrifugal and Coriolis terms).
+  const Curled c;
+  const double t0 = 0.3, d = 1e-4;
+  SuperHelix h = c.make(t0, c.q);
+  SuperHelix hp = c.make(t0 + d, c.q + d * c.qd);
+  SuperHelix hm = c.make(t0 - d, c.q - d * c.qd);
+  for (double s : {0.0, 0.01, 0.03, 0.06, 0.0999})
+  {
+    const Eigen::Vector3d rp = hp.position(s), rm = hm.position(s), r0 = h.position(s);
+    const Eigen::Vector3d vfd = (rp - rm) / (2 * d);
+    const Eigen::Vector3d afd = (rp - 2 * r0 + rm) / (d * d);
+    const Eigen::Vector3d v = h.velocity(s), a = h.accelerationAtRest(s);
+    // Truncation d²|r'''| / 6 ~ 1e-8 |v| ω²; round-off in the second difference
+    // ~1e-16 |r| / d² ~ 1e-9 m/s². Tolerances: 1e-6 relative.
+    EXPECT_LT((v - vfd).norm(), 1e-6 * (1 + v.norm())) << s;
+    EXPECT_LT((a - afd).norm(), 1e-5 * (1 + a.norm()))
+        << s << " a=" << a.transpose() << " fd=" << afd.transpose();
+  }
+}
+
+TEST(SuperHelixKinematics, MassMatrixEqualsBruteForceQuadratureAndIsPositiveDefinite)
+{
+  const Curled c;
+  SuperHelix h = c.make(0.3, c.q);
+  h.reconstruct();
+  h.assemble();
+  const Eigen::MatrixXd M = h.massMatrix();
+  // Brute force: M = ∫ ρS JᵀJ ds with 64 Gauss points per element, J from jacobian(s).
+  Eigen::MatrixXd Mb = Eigen::MatrixXd::Zero(12, 12);
+  const double rhoS = c.spec.hair.linearDensity();
+  const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                        0.8611363115940526};
+  const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                        0.3478548451374538};
+  double s0 = 0;
+  for (double l : c.spec.elementLengths)
+  {
+    const int sub = 16;
+    for (int k = 0; k < sub; ++k)
+      for (int g = 0; g < 4; ++g)
+      {
+        const double s = s0 + l / sub * (k + 0.5 + 0.5 * gx[g]);
+        const Eigen::Matrix3Xd J = h.jacobian(s);
+        Mb += rhoS * 0.5 * l / sub * gw[g] * J.transpose() * J;
+      }
+    s0 += l;
+  }
+  // The model's quadrature (4 Gauss points per π/2 of turning) has a Gauss remainder of
+  // ~h (Ωh)⁸ (4!)⁴/(9 (8!)³) ≈ 2e-8 relative; 1e-5 of the largest entry leaves room for the
+  // brute force's own error while a wrong tail sum (an O(1) relative error in
+  // off-diagonal blocks) cannot pass.
+  EXPECT_LT((M - Mb).cwiseAbs().maxCoeff(), 1e-5 * Mb.cwiseAbs().maxCoeff());
+  EXPECT_LT((M - M.transpose()).cwiseAbs().maxCoeff(), 1e-15 * M.cwiseAbs().maxCoeff());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(M);
+  EXPECT_GT(es.eigenvalues().minCoeff(), 0) << es.eigenvalues().transpose();
+}
+
+TEST(SuperHelixKinematics, NaturalHelixIsReconstructedExactlyAndStaysAtRest)
+{
+  // A helix with Darboux vector d (world), |d| = Ω, curvature κ and torsion τ has its axis
+  // along d, radius κ/Ω² and advances τ/Ω along the axis per unit length: check those
+  // invariants on the chained elements, then that 100 steps without load change nothing.
+  for (int n : {1, 3, 10})
+  {
+    HairParameters p = HairParameters::preset(HairType::Curly);
+    p.curvatureVariation = 0;
+    StrandSpec spec = StrandSpec::uniform(0.3, n, p);
+    spec.gravity.setZero();
+    RootState root;
+    root.position = Eigen::Vector3d(0.1, 0.2, -0.05);
+    root.orientation =
+        Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    spec.root = [root](double) { return root; };
+    SuperHelix h;
+    ASSERT_TRUE(h.initialize(spec).ok());
+    const Eigen::Vector3d k = p.naturalCurvature();
+    const double om = k.norm(), R = k[1] / (om * om), pitch = k[0] / om;
+    const Eigen::Vector3d axis = root.orientation * k / om;
+    // The centre of curvature at the root is along d × n0 (the principal normal).
+    const Eigen::Vector3d c = root.position + R * axis.cross(root.orientation.col(0)).normalized();
+    std::vector<Eigen::Vector3d> before;
+    h.polyline(20, before);
+    for (size_t i = 0; i < before.size(); ++i)
+    {
+      const double s = 0.3 * i / (before.size() - 1);
+      const Eigen::Vector3d d = before[i] - c;
+      const double axial = d.dot(axis);
+      const double radial = (d - axial * axis).norm();
+      // Round-off: ~n·100 flops on O(0.3 m) quantities: 1e-14 m is 30 ulp of the length.
+      EXPECT_NEAR(axial, pitch * s, 1e-14) << "N = " << n << " s = " << s;
+      EXPECT_NEAR(radial, R, 1e-14) << "N = " << n << " s = " << s;
+    }
+    for (int i = 0; i < 100; ++i)
+      ASSERT_TRUE(h.step(1.0 / 30).ok());
+    std::vector<Eigen::Vector3d> after;
+    h.polyline(20, after);
+    for (size_t i = 0; i < before.size(); ++i)
+      EXPECT_LT((after[i] - before[i]).norm(), 1e-15) << "N = " << n;
+    EXPECT_EQ(h.energy().kinetic, 0.0);
+  }
+}
+
+TEST(SuperHelixKinematics, VelocityJacobianMatchesFiniteDifferencesOfTheForce)
+{
+  // C = ∂f/∂q̇ (the linearized velocity-dependent terms of the step) against central
+  // differences of the generalized force in q̇. f is quadratic in q̇, so central
+  // differences are exact up to round-off (~1e-16 |f| / ε); 1e-7 of max |C| is far above
+  // that and far below the O(1) error of a missing or doubled term.
+  const Curled c;
+  SuperHelix h = c.make(0.3, c.q);
+  h.reconstruct();
+  h.assemble();
+  h.assembleVelocityJacobian();
+  const Eigen::MatrixXd C = h.velocityJacobian();
+  const double eps = 1e-2;
+  for (int b = 0; b < 12; ++b)
+  {
+    SuperHelix hp, hm;
+    ASSERT_TRUE(hp.initialize(c.spec, 0.3).ok());
+    ASSERT_TRUE(hm.initialize(c.spec, 0.3).ok());
+    Eigen::VectorXd vp = c.qd, vm = c.qd;
+    vp[b] += eps;
+    vm[b] -= eps;
+    ASSERT_TRUE(hp.setState(c.q, vp).ok());
+    ASSERT_TRUE(hm.setState(c.q, vm).ok());
+    hp.assemble();
+    hm.assemble();
+    const Eigen::VectorXd fd = (hp.generalizedForce() - hm.generalizedForce()) / (2 * eps);
+    EXPECT_LT((C.col(b) - fd).cwiseAbs().maxCoeff(), 1e-7 * C.cwiseAbs().maxCoeff()) << b;
+  }
+}
