@@ -1,0 +1,67 @@
+#include "projective/Wind.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hair
+{
+
+Status GustyWind::validate(const std::string& what) const
+{
+  auto err = [&](const std::string& s) { return Status::Error(what + ": " + s); };
+  if (!direction.allFinite() || !std::isfinite(speed) || !std::isfinite(gustAmplitude) ||
+      !std::isfinite(gustPeriod) || !std::isfinite(start) || !std::isfinite(rampTime) ||
+      !std::isfinite(airDensity) || !std::isfinite(dragCoefficient))
+  {
+    return err("holds NaN or infinite values");
+  }
+  if (speed < 0)
+  {
+    return err("the speed must be ≥ 0 m/s (turn the direction round instead)");
+  }
+  if (speed > 0 && !(direction.norm() > 1e-12))
+  {
+    return err("the direction is zero; give where the air goes");
+  }
+  if (gustAmplitude < 0 || gustAmplitude > 1)
+  {
+    return err("the gust amplitude must lie in [0, 1]");
+  }
+  if (!(gustPeriod > 0))
+  {
+    return err("the gust period must be > 0 s");
+  }
+  if (rampTime < 0 || airDensity < 0 || dragCoefficient < 0)
+  {
+    return err("ramp time, air density and drag coefficient must be ≥ 0");
+  }
+  return Status::Ok();
+}
+
+Eigen::Vector3d GustyWind::velocity(const Eigen::Vector3d& x, double t) const
+{
+  if (speed <= 0 || t <= start)
+  {
+    return Eigen::Vector3d::Zero();
+  }
+  const Eigen::Vector3d e = direction.normalized();
+  double ramp = 1;
+  if (rampTime > 0 && t - start < rampTime)
+  {
+    const double s = (t - start) / rampTime;
+    ramp = s * s * (3 - 2 * s);
+  }
+  const double phase = 6.28318530717958647692 * (t - x.dot(e) / speed) / gustPeriod;
+  return speed * ramp * (1 + gustAmplitude * std::sin(phase)) * e;
+}
+
+Eigen::Vector3d GustyWind::drag(const Eigen::Vector3d& air, const Eigen::Vector3d& segmentVelocity,
+                                const Eigen::Vector3d& tangent, double length,
+                                double diameter) const
+{
+  Eigen::Vector3d w = air - segmentVelocity;
+  w -= w.dot(tangent) * tangent;
+  return 0.5 * airDensity * dragCoefficient * diameter * length * w.norm() * w;
+}
+
+} // namespace hair
