@@ -1,0 +1,523 @@
+#include "simulation/Simulation.h"
+
+#include "projective/ProjectiveStrands.h"
+#include "superhelix/SuperHelix.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hair
+{
+
+namespace
+{
+constexpr double TwoPi = 6.283185307179586476925286766559;
+
+bool finite(const Eigen::Vector3d& v)
+{
+  return v.allFinite();
+}
+
+/// Orthonormal root frame: n0 along the growth, n1 as close as possible to the scalp normal
+/// made perpendicular (any perpendicular when they are parallel), n2 = n0 × n1.
+Eigen::Matrix3d rootFrame(const GuideStrand& g)
+{
+  const Eigen::Vector3d n0 = g.growth.normalized();
+  Eigen::Vector3d n1 = g.normal - g.normal.dot(n0) * n0;
+  if (n1.norm() < 1e-6)
+  {
+    n1 = n0.unitOrthogonal();
+  }
+  n1.normalize();
+  Eigen::Matrix3d f;
+  f.col(0) = n0;
+  f.col(1) = n1;
+  f.col(2) = n0.cross(n1);
+  return f;
+}
+} // namespace
+
+Status HeadMotion::validate() const
+{
+  if (kind == Kind::None)
+  {
+    return Status::Ok();
+  }
+  if (!std::isfinite(amplitude) || !std::isfinite(frequency) || frequency <= 0 || !finite(axis) ||
+      axis.norm() < 1e-12 || !finite(pivot))
+  {
+    return Status::Error("the body motion needs a finite amplitude, a frequency > 0 Hz, a "
+                         "non-zero axis and a finite pivot.");
+  }
+  return Status::Ok();
+}
+
+Eigen::Isometry3d HeadMotion::pose(double t) const
+{
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  const double s = amplitude * std::sin(TwoPi * frequency * t);
+  const Eigen::Vector3d a = axis.normalized();
+  if (kind == Kind::Shake || kind == Kind::Nod)
+  {
+    p.linear() = Eigen::AngleAxisd(s, a).toRotationMatrix();
+    p.translation() = pivot - p.linear() * pivot;
+  }
+  else if (kind == Kind::Vertical)
+  {
+    p.translation() = s * a;
+  }
+  return p;
+}
+
+void HeadMotion::rates(double t, Eigen::Vector3d& v0, Eigen::Vector3d& omega, Eigen::Vector3d& a0,
+                       Eigen::Vector3d& alpha) const
+{
+  const double w = TwoPi * frequency;
+  const double sd = amplitude * w * std::cos(w * t), sdd = -amplitude * w * w * std::sin(w * t);
+  const Eigen::Vector3d a = axis.normalized();
+  v0.setZero();
+  omega.setZero();
+  a0.setZero();
+  alpha.setZero();
+  if (kind == Kind::Shake || kind == Kind::Nod)
+  {
+    // Rotation about the line through the pivot: v(x) = ω × (x − pivot) = −ω × pivot + ω × x.
+    omega = sd * a;
+    alpha = sdd * a;
+    v0 = -omega.cross(pivot);
+    // a(x) = α × (x − p) + ω × (ω × (x − p)); the x-independent part is what remains at x = 0.
+    a0 = -alpha.cross(pivot) - omega.cross(omega.cross(pivot));
+  }
+  else if (kind == Kind::Vertical)
+  {
+    v0 = sd * a;
+    a0 = sdd * a;
+  }
+}
+
+Status SimulationOptions::validate() const
+{
+  if (!(timeStep > 0) || !std::isfinite(timeStep))
+  {
+    return Status::Error("the time step must be a positive number of seconds (1/30 s is the "
+                         "Super-Helix paper's).");
+  }
+  if (!(frameInterval > 0) || !std::isfinite(frameInterval))
+  {
+    return Status::Error("the frame rate must be positive.");
+  }
+  if (!finite(gravity) || !finite(wind))
+  {
+    return Status::Error("gravity and wind must be finite vectors.");
+  }
+  if (threads < 1)
+  {
+    return Status::Error("at least one thread is needed.");
+  }
+  return motion.validate();
+}
+
+struct Simulation::Impl
+{
+  SimulationOptions Options;
+  std::vector<GuideStrand> Guides;
+  std::vector<SimulationPart> Parts;
+  std::vector<SuperHelix> Helices;
+  std::unique_ptr<ProjectiveStrands> Projective;
+  StateHeader Header;
+  std::vector<std::string> Extra;
+  std::vector<StateFrame> Frames;
+  std::vector<long> Contacts;
+  std::vector<double> Depth;
+  std::vector<std::vector<Eigen::Vector3d>> Previous; // projective: nodes one step before
+
+  double time() const
+  {
+    return Options.model == StrandModel::SuperHelix ? (Helices.empty() ? 0 : Helices[0].time())
+                                                    : Projective->time();
+  }
+  void posesAt(double t)
+  {
+    const Eigen::Isometry3d head = Options.motion.pose(t);
+    for (SimulationPart& p : Parts)
+    {
+      p.part.pose = p.movesWithHead ? head : Eigen::Isometry3d::Identity();
+    }
+  }
+  void record();
+};
+
+void Simulation::Impl::record()
+{
+  StateFrame f;
+  f.time = time();
+  long contacts = 0;
+  double deepest = 0;
+  posesAt(f.time);
+  if (Options.model == StrandModel::SuperHelix)
+  {
+    for (const SuperHelix& h : Helices)
+    {
+      const int n = h.elementCount() * Options.pointsPerElement;
+      for (int i = 0; i <= n; ++i)
+      {
+        const double s = h.length() * i / n;
+        f.positions.push_back(h.position(s));
+        f.velocities.push_back(h.velocity(s));
+      }
+      f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
+      f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
+    }
+    EnergyReport sum;
+    for (const SuperHelix& h : Helices)
+    {
+      const EnergyReport& e = h.energy();
+      sum.kinetic += e.kinetic;
+      sum.elastic += e.elastic;
+      sum.gravitational += e.gravitational;
+      sum.total.frictionDissipated += e.total.frictionDissipated;
+      sum.total.airDissipated += e.total.airDissipated;
+      sum.total.rootWork += e.total.rootWork;
+      sum.total.windWork += e.total.windWork;
+      sum.total.contactWork += e.total.contactWork;
+      sum.total.residual += e.total.residual;
+    }
+    f.energy = {{"kinetic", sum.kinetic},
+                {"elastic", sum.elastic},
+                {"gravitational", sum.gravitational},
+                {"dissipated", sum.total.frictionDissipated + sum.total.airDissipated},
+                {"external_work", sum.total.rootWork + sum.total.windWork + sum.total.contactWork},
+                {"friction_dissipated", sum.total.frictionDissipated},
+                {"air_dissipated", sum.total.airDissipated},
+                {"root_work", sum.total.rootWork},
+                {"wind_work", sum.total.windWork},
+                {"contact_work", sum.total.contactWork},
+                {"residual", sum.total.residual}};
+  }
+  else
+  {
+    const ProjectiveStrands& ps = *Projective;
+    const double h = ps.options().timeStep;
+    for (int s = 0; s < ps.numberOfStrands(); ++s)
+    {
+      const auto& nodes = ps.nodes(s);
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+      {
+        f.positions.push_back(nodes[i]);
+        f.velocities.push_back(Previous.empty() ? Eigen::Vector3d::Zero().eval()
+                                                : Eigen::Vector3d((nodes[i] - Previous[s][i]) / h));
+      }
+      for (std::size_t k = 0; k < ps.angles(s).size(); ++k)
+      {
+        f.q.push_back(ps.angles(s)[k].x());
+        f.q.push_back(ps.angles(s)[k].y());
+        f.qdot.push_back(ps.rates(s)[k].x());
+        f.qdot.push_back(ps.rates(s)[k].y());
+      }
+    }
+    const ProjectiveEnergy e = ps.energy();
+    f.energy = {{"kinetic", e.kinetic},
+                {"elastic", e.elastic},
+                {"gravitational", e.gravitational},
+                {"dissipated", e.dissipated},
+                {"external_work", e.bodyWork + e.windWork + e.contactWork},
+                {"body_work", e.bodyWork},
+                {"wind_work", e.windWork},
+                {"contact_work", e.contactWork},
+                {"residual", e.residual}};
+  }
+  // Penetration, measured the same way for both models: nodes inside a part.
+  for (const Eigen::Vector3d& x : f.positions)
+  {
+    for (const SimulationPart& p : Parts)
+    {
+      const TableQuery q = p.part.query(x);
+      if (q.inside)
+      {
+        ++contacts;
+        deepest = std::max(deepest, q.depth);
+      }
+    }
+  }
+  Frames.push_back(std::move(f));
+  Contacts.push_back(contacts);
+  Depth.push_back(deepest);
+}
+
+Simulation::Simulation() : P(std::make_unique<Impl>()) {}
+Simulation::~Simulation() = default;
+
+int Simulation::numberOfFrames() const
+{
+  return static_cast<int>(P->Frames.size());
+}
+const StateFrame& Simulation::frame(int index) const
+{
+  return P->Frames.at(index);
+}
+const StateHeader& Simulation::header() const
+{
+  return P->Header;
+}
+const std::vector<std::string>& Simulation::extraEnergyTerms() const
+{
+  return P->Extra;
+}
+const std::vector<long>& Simulation::contacts() const
+{
+  return P->Contacts;
+}
+const std::vector<double>& Simulation::maxDepth() const
+{
+  return P->Depth;
+}
+
+Status Simulation::initialize(const std::vector<GuideStrand>& strands,
+                              const std::vector<SimulationPart>& parts,
+                              const SimulationOptions& options)
+{
+  auto r = std::make_unique<Impl>();
+  if (strands.empty())
+  {
+    return Status::Error("there are no strands to simulate: connect Hair Strands (or polylines "
+                         "with its cell arrays) to the first input.");
+  }
+  if (Status s = options.validate(); !s)
+  {
+    return s;
+  }
+  for (std::size_t k = 0; k < parts.size(); ++k)
+  {
+    if (parts[k].part.table.empty() || parts[k].part.table.numberOfHits() == 0)
+    {
+      return Status::Error(
+          "body part " + std::to_string(k) + " ('" + parts[k].part.name +
+          "') has an empty collision table: rebuild it with Cylindrical Collision Map.");
+    }
+  }
+  for (std::size_t k = 0; k < strands.size(); ++k)
+  {
+    const GuideStrand& g = strands[k];
+    if (!finite(g.root) || !finite(g.growth) || g.growth.norm() < 1e-12 || !finite(g.normal))
+    {
+      return Status::Error("strand " + std::to_string(k) +
+                           " has a NaN root or a zero or NaN growth direction.");
+    }
+    if (g.elements < 1 || !(g.length > 0))
+    {
+      return Status::Error("strand " + std::to_string(k) + " has " + std::to_string(g.elements) +
+                           " elements and length " + std::to_string(g.length) +
+                           ": give at least one element and a positive length.");
+    }
+    if (g.elements != strands[0].elements)
+    {
+      return Status::Error("strand " + std::to_string(k) + " has " + std::to_string(g.elements) +
+                           " elements, strand 0 has " + std::to_string(strands[0].elements) +
+                           ": all strands of a run need the same number.");
+    }
+    if (Status s = g.hair.validate(); !s)
+    {
+      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+    }
+  }
+  r->Options = options;
+  r->Guides = strands;
+  r->Parts = parts;
+  const int n = strands[0].elements;
+
+  if (options.model == StrandModel::SuperHelix)
+  {
+    r->Helices.resize(strands.size());
+    for (std::size_t k = 0; k < strands.size(); ++k)
+    {
+      const GuideStrand& g = strands[k];
+      StrandSpec spec = StrandSpec::uniform(g.length, g.elements, g.hair);
+      spec.name = "strand " + std::to_string(k);
+      spec.id = static_cast<int>(k);
+      spec.seed = g.seed + static_cast<std::uint32_t>(k);
+      spec.gravity = options.gravity;
+      spec.wind = options.wind;
+      const Eigen::Vector3d x0 = g.root;
+      const Eigen::Matrix3d f0 = rootFrame(g);
+      const HeadMotion motion = options.motion;
+      spec.root = [x0, f0, motion](double t)
+      {
+        RootState s;
+        const Eigen::Isometry3d pose = motion.pose(t);
+        Eigen::Vector3d v0, w, a0, al;
+        motion.rates(t, v0, w, a0, al);
+        s.position = pose * x0;
+        s.orientation = pose.linear() * f0;
+        s.angularVelocity = w;
+        s.angularAcceleration = al;
+        s.velocity = v0 + w.cross(s.position);
+        s.acceleration = a0 + al.cross(s.position) + w.cross(w.cross(s.position));
+        return s;
+      };
+      if (Status s = r->Helices[k].initialize(spec, 0.0); !s)
+      {
+        return s;
+      }
+    }
+    r->Header.model = "super-helix";
+    r->Header.coordinatesPerStrand = 3 * n;
+    r->Extra = {"friction_dissipated", "air_dissipated", "root_work",
+                "wind_work",           "contact_work",   "residual"};
+    for (std::size_t k = 0; k <= strands.size(); ++k)
+    {
+      r->Header.offsets.push_back(std::int64_t(k) * (n * options.pointsPerElement + 1));
+    }
+  }
+  else
+  {
+    std::vector<ProjectiveStrand> ps(strands.size());
+    for (std::size_t k = 0; k < strands.size(); ++k)
+    {
+      const GuideStrand& g = strands[k];
+      std::vector<Eigen::Vector3d> points;
+      for (int i = 0; i <= n; ++i)
+      {
+        points.push_back(g.root + (g.length * i / n) * g.growth.normalized());
+      }
+      if (Status s = strandFromPolyline(points, rootFrame(g).col(1), ps[k]); !s)
+      {
+        return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+      }
+    }
+    ProjectiveScene scene;
+    BodyMotion head = BodyMotion::still();
+    const HeadMotion& m = options.motion;
+    // BodyMotion's oscillations fade in over their first quarter period; enough cycles to
+    // last any run.
+    const double period = 1 / m.frequency, cycles = 1e6;
+    if (m.kind == HeadMotion::Kind::Shake)
+    {
+      head = BodyMotion::shake(m.pivot, m.axis, m.amplitude, period, 0, cycles);
+    }
+    else if (m.kind == HeadMotion::Kind::Nod)
+    {
+      head = BodyMotion::nod(m.pivot, m.axis, m.amplitude, period, 0, cycles);
+    }
+    else if (m.kind == HeadMotion::Kind::Vertical)
+    {
+      head = BodyMotion::verticalOscillation(m.axis, m.amplitude, period, 0, cycles);
+    }
+    for (const SimulationPart& p : parts)
+    {
+      scene.parts.push_back(p.part);
+      scene.motions.push_back(p.movesWithHead ? head : BodyMotion::still());
+    }
+    scene.rootMotion = head;
+    scene.wind.speed = options.wind.norm();
+    scene.wind.direction = scene.wind.speed > 0 ? Eigen::Vector3d(options.wind / scene.wind.speed)
+                                                : Eigen::Vector3d::UnitZ();
+    ProjectiveOptions po;
+    // The explicit scheme steps at most 1 ms, in whole steps per frame so that frames fall
+    // on their times.
+    po.timeStep = options.frameInterval /
+                  std::ceil(options.frameInterval / std::min(options.timeStep, 1e-3) - 1e-9);
+    po.gravity = options.gravity;
+    po.threads = options.threads;
+    const HairParameters& hp = strands[0].hair;
+    po.parameters.linearDensity = hp.linearDensity();
+    po.parameters.bendingStiffness = 0.5 * (hp.stiffness()[1] + hp.stiffness()[2]);
+    po.parameters.dragDiameter = 2 * hp.radius;
+    r->Projective = std::make_unique<ProjectiveStrands>();
+    if (Status s = r->Projective->initialize(std::move(ps), std::move(scene), po); !s)
+    {
+      return s;
+    }
+    r->Header.model = "projective";
+    r->Header.coordinatesPerStrand = 2 * n;
+    r->Extra = {"body_work", "wind_work", "contact_work", "residual"};
+    for (std::size_t k = 0; k <= strands.size(); ++k)
+    {
+      r->Header.offsets.push_back(std::int64_t(k) * (n + 1));
+    }
+  }
+  auto& sp = r->Header.strandParameters;
+  for (const GuideStrand& g : strands)
+  {
+    sp["length"].push_back(g.length);
+    sp["elements"].push_back(g.elements);
+    sp["radius"].push_back(g.hair.radius);
+    sp["ellipticity"].push_back(g.hair.ellipticity);
+    sp["young_modulus"].push_back(g.hair.youngModulus);
+    sp["poisson_ratio"].push_back(g.hair.poissonRatio);
+    sp["density"].push_back(g.hair.density);
+    sp["helix_radius"].push_back(g.hair.helixRadius);
+    sp["helix_step"].push_back(g.hair.helixStep);
+    sp["internal_friction"].push_back(g.hair.internalFriction);
+    sp["air_friction"].push_back(g.hair.airFriction);
+  }
+  auto& at = r->Header.attributes;
+  at["time_step"] = options.timeStep;
+  at["frame_interval"] = options.frameInterval;
+  for (int c = 0; c < 3; ++c)
+  {
+    at[std::string("gravity_") + "xyz"[c]] = options.gravity[c];
+    at[std::string("wind_") + "xyz"[c]] = options.wind[c];
+  }
+  at["motion_kind"] = static_cast<int>(options.motion.kind);
+  at["motion_amplitude"] = options.motion.amplitude;
+  at["motion_frequency"] = options.motion.frequency;
+  r->record();
+  P = std::move(r);
+  return Status::Ok();
+}
+
+Status Simulation::advanceTo(int frames, const Progress& progress)
+{
+  if (P->Frames.empty())
+  {
+    return Status::Error("the simulation is not initialized.");
+  }
+  const int first = numberOfFrames();
+  for (int f = first; f < frames; ++f)
+  {
+    const double target = f * P->Options.frameInterval;
+    if (P->Options.model == StrandModel::SuperHelix)
+    {
+      const int steps = std::max(
+          1, static_cast<int>(std::ceil(P->Options.frameInterval / P->Options.timeStep - 1e-9)));
+      const double dt = (target - P->time()) / steps;
+      for (int i = 0; i < steps; ++i)
+      {
+        if (Status s = stepStrands(P->Helices, dt, P->Options.threads); !s)
+        {
+          return s;
+        }
+      }
+    }
+    else
+    {
+      ProjectiveStrands& ps = *P->Projective;
+      const double h = ps.options().timeStep;
+      const int steps = std::max(1, static_cast<int>(std::lround((target - ps.time()) / h)));
+      for (int i = 0; i < steps; ++i)
+      {
+        if (i == steps - 1)
+        {
+          P->Previous.resize(ps.numberOfStrands());
+          for (int s = 0; s < ps.numberOfStrands(); ++s)
+          {
+            P->Previous[s] = ps.nodes(s);
+          }
+        }
+        if (Status s = ps.step(); !s)
+        {
+          return s;
+        }
+      }
+    }
+    P->record();
+    if (progress && !progress(double(f - first + 1) / (frames - first)))
+    {
+      return Status::Error("the simulation was aborted at t = " + std::to_string(P->time()) +
+                           " s; the frames computed so far are kept.");
+    }
+  }
+  return Status::Ok();
+}
+
+} // namespace hair

@@ -1,0 +1,119 @@
+#pragma once
+// A whole scene advanced frame by frame, for either strand model: the one place where the
+// pipeline's Hair Simulation meets the models. Guide strands, body parts (collision tables,
+// some moving with the head), head motion, gravity and wind in; frames of positions,
+// velocities, generalized coordinates and energy terms out.
+#include "collision/CollisionTable.h"
+#include "common/Progress.h"
+#include "common/Status.h"
+#include "io/StateFile.h"
+#include "superhelix/HairParameters.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+enum class StrandModel
+{
+  SuperHelix = 0, ///< Bertails, Audoly, Cani et al. 2006
+  Projective = 1  ///< Kurihara, Anjyo and Thalmann 1993
+};
+
+/// A guide strand as Hair Strands grows it.
+struct GuideStrand
+{
+  Eigen::Vector3d root = Eigen::Vector3d::Zero();
+  Eigen::Vector3d growth = Eigen::Vector3d::UnitY(); ///< direction of the first element
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY(); ///< scalp normal at the root
+  double length = 0.3;
+  int elements = 10;
+  HairParameters hair;
+  std::uint32_t seed = 1;
+};
+
+/// How the head moves: θ(t) = amplitude · sin(2π frequency t) about `axis` through `pivot`
+/// (shake, nod; amplitude in radians) or a displacement amplitude · sin(2π f t) along `axis`
+/// (vertical oscillation; amplitude in metres).
+struct HeadMotion
+{
+  enum class Kind
+  {
+    None = 0,
+    Shake = 1,
+    Nod = 2,
+    Vertical = 3
+  };
+  Kind kind = Kind::None;
+  double amplitude = 0.5;
+  double frequency = 1.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d pivot = Eigen::Vector3d(0, 1.45, 0.02); ///< the bundled body's neck
+  Status validate() const;
+  /// Head at rest → head at time t.
+  Eigen::Isometry3d pose(double t) const;
+  /// Velocity v0 + ω × x and acceleration a0 + α × x + ω × (ω × x) of the head's points,
+  /// analytic: returns (v0, ω, a0, α) about the world origin.
+  void rates(double t, Eigen::Vector3d& v0, Eigen::Vector3d& omega, Eigen::Vector3d& a0,
+             Eigen::Vector3d& alpha) const;
+};
+
+struct SimulationPart
+{
+  BodyPart part;
+  bool movesWithHead = false;
+};
+
+struct SimulationOptions
+{
+  StrandModel model = StrandModel::SuperHelix;
+  double timeStep = 1.0 / 30;      ///< s; the projective model steps at most 1 ms (explicit)
+  double frameInterval = 1.0 / 30; ///< s between stored frames
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, m/s
+  HeadMotion motion;
+  int threads = 1;
+  int pointsPerElement = 4; ///< Super-Helix: display points per element
+  Status validate() const;
+};
+
+/// Steps the scene. Frames are kept in memory (frame 0 is the initial state).
+class Simulation
+{
+public:
+  Simulation();
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  /// Checks everything and computes frame 0. Refuses no strands, bad parameters, a body
+  /// part with an empty table, NaN anywhere, with a message naming the culprit.
+  Status initialize(const std::vector<GuideStrand>& strands,
+                    const std::vector<SimulationPart>& parts, const SimulationOptions& options);
+  /// Computes frames until `frames` of them exist. `progress` (fraction of the requested
+  /// frames) may abort; frames computed before the abort are kept. A step that fails stops
+  /// with an error naming the strand and the time; the frames before it are kept.
+  Status advanceTo(int frames, const Progress& progress = {});
+
+  int numberOfFrames() const;
+  const StateFrame& frame(int index) const;
+  /// The header a state file of this run needs (offsets, per-strand parameters, run
+  /// attributes) and the energy terms beyond the required five.
+  const StateHeader& header() const;
+  const std::vector<std::string>& extraEnergyTerms() const;
+  /// Per frame: nodes inside a body part after the step, and the deepest of them (m).
+  const std::vector<long>& contacts() const;
+  const std::vector<double>& maxDepth() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
+
+} // namespace hair

@@ -1,0 +1,305 @@
+#include "vtkHairSimulation.h"
+
+#include "HairConversion.h"
+#include "io/StateFile.h"
+#include "simulation/Simulation.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkLogger.h>
+#include <vtkObjectFactory.h>
+#include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkTable.h>
+
+#include <cmath>
+
+vtkStandardNewMacro(vtkHairSimulation);
+
+struct vtkHairSimulation::Internals
+{
+  hair::Simulation Sim;
+  bool Initialized = false;
+  vtkMTimeType BuiltAt = 0; ///< max MTime of this filter and its inputs when Sim was built
+  hair::StateFileWriter Writer;
+  std::string WrittenTo;
+};
+
+vtkHairSimulation::vtkHairSimulation() : Internal(std::make_unique<Internals>())
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkHairSimulation::~vtkHairSimulation() = default;
+
+void vtkHairSimulation::Reset()
+{
+  this->Internal->Initialized = false;
+  this->Modified();
+}
+
+void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Model: " << (this->Model == SUPER_HELIX ? "Super-Helix" : "Projective") << "\n"
+     << indent << "TimeStep: " << this->TimeStep << "\n"
+     << indent << "Duration: " << this->Duration << "\n"
+     << indent << "FrameRate: " << this->FrameRate << "\n"
+     << indent << "Gravity: " << this->Gravity[0] << " " << this->Gravity[1] << " "
+     << this->Gravity[2] << "\n"
+     << indent << "Wind: " << this->Wind[0] << " " << this->Wind[1] << " " << this->Wind[2] << "\n"
+     << indent << "BodyMotion: " << this->BodyMotion << " amplitude " << this->MotionAmplitude
+     << " frequency " << this->MotionFrequency << "\n"
+     << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
+     << indent << "StateFileName: " << this->StateFileName << "\n";
+}
+
+int vtkHairSimulation::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  }
+  else
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+    info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+int vtkHairSimulation::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkPolyData" : "vtkTable");
+  return 1;
+}
+
+int vtkHairSimulation::RequestInformation(vtkInformation*, vtkInformationVector**,
+                                          vtkInformationVector* outputVector)
+{
+  const double interval = 1.0 / this->FrameRate;
+  const int frames = static_cast<int>(std::floor(this->Duration / interval + 1e-9)) + 1;
+  std::vector<double> times(frames);
+  for (int i = 0; i < frames; ++i)
+  {
+    times[i] = i * interval;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), frames);
+  const double range[2] = {0, times.back()};
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  return 1;
+}
+
+int vtkHairSimulation::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector,
+                                           vtkInformationVector*)
+{
+  // The strands and tables are static: ask them for no particular time, whole.
+  for (int port = 0; port < 2; ++port)
+  {
+    for (int i = 0; i < inputVector[port]->GetNumberOfInformationObjects(); ++i)
+    {
+      vtkInformation* in = inputVector[port]->GetInformationObject(i);
+      in->Remove(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+      in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+      in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    }
+  }
+  return 1;
+}
+
+namespace
+{
+/// Hair Strands' polylines and cell arrays -> guide strands.
+hair::Status toGuides(vtkPolyData* input, std::vector<hair::GuideStrand>& guides)
+{
+  if (!input || input->GetNumberOfLines() == 0)
+  {
+    return hair::Status::Error("the strands input has no polylines: connect Hair Strands.");
+  }
+  vtkCellData* cd = input->GetCellData();
+  const char* required[] = {"RootNormal",  "GrowthDirection",    "Length",       "NumberOfElements",
+                            "Radius",      "Ellipticity",        "YoungModulus", "PoissonRatio",
+                            "Density",     "HelixRadius",        "HelixStep",    "InternalFriction",
+                            "AirFriction", "CurvatureVariation", "Seed"};
+  for (const char* name : required)
+  {
+    if (!cd->GetArray(name))
+    {
+      return hair::Status::Error(std::string("the strands input lacks the cell array '") + name +
+                                 "': make the strands with Hair Strands.");
+    }
+  }
+  auto value = [cd](const char* name, vtkIdType c) { return cd->GetArray(name)->GetTuple1(c); };
+  vtkCellArray* lines = input->GetLines();
+  vtkNew<vtkIdList> ids;
+  vtkIdType cell = input->GetNumberOfVerts();
+  guides.clear();
+  for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell)
+  {
+    hair::GuideStrand g;
+    input->GetPoint(ids->GetId(0), g.root.data());
+    cd->GetArray("RootNormal")->GetTuple(cell, g.normal.data());
+    cd->GetArray("GrowthDirection")->GetTuple(cell, g.growth.data());
+    g.length = value("Length", cell);
+    g.elements = static_cast<int>(value("NumberOfElements", cell));
+    g.hair.radius = value("Radius", cell);
+    g.hair.ellipticity = value("Ellipticity", cell);
+    g.hair.youngModulus = value("YoungModulus", cell);
+    g.hair.poissonRatio = value("PoissonRatio", cell);
+    g.hair.density = value("Density", cell);
+    g.hair.helixRadius = value("HelixRadius", cell);
+    g.hair.helixStep = value("HelixStep", cell);
+    g.hair.internalFriction = value("InternalFriction", cell);
+    g.hair.airFriction = value("AirFriction", cell);
+    g.hair.curvatureVariation = value("CurvatureVariation", cell);
+    g.seed = static_cast<std::uint32_t>(value("Seed", cell));
+    guides.push_back(g);
+  }
+  return hair::Status::Ok();
+}
+} // namespace
+
+int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** inputVector,
+                                   vtkInformationVector* outputVector)
+{
+  Internals& in = *this->Internal;
+  vtkPolyData* strandsIn = vtkPolyData::GetData(inputVector[0], 0);
+
+  // (Re)build the scene when a property or an input changed since it was built.
+  vtkMTimeType mtime = this->GetMTime();
+  mtime = std::max(mtime, strandsIn ? strandsIn->GetMTime() : 0);
+  for (int i = 0; i < inputVector[1]->GetNumberOfInformationObjects(); ++i)
+  {
+    vtkImageData* t = vtkImageData::GetData(inputVector[1], i);
+    mtime = std::max(mtime, t ? t->GetMTime() : 0);
+  }
+  if (!in.Initialized || mtime > in.BuiltAt)
+  {
+    in.Initialized = false;
+    in.Writer.close();
+    std::vector<hair::GuideStrand> guides;
+    if (hair::Status s = toGuides(strandsIn, guides); !s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: " << s.message());
+      return 0;
+    }
+    std::vector<hair::SimulationPart> parts;
+    for (int i = 0; i < inputVector[1]->GetNumberOfInformationObjects(); ++i)
+    {
+      hair::SimulationPart p;
+      std::string name;
+      if (hair::Status s = hair::convert::fromImage(vtkImageData::GetData(inputVector[1], i),
+                                                    p.part.table, &name, &p.movesWithHead);
+          !s)
+      {
+        vtkErrorMacro(<< "Hair Simulation: collision table " << i << ": " << s.message());
+        return 0;
+      }
+      p.part.name = name.empty() ? "part " + std::to_string(i) : name;
+      parts.push_back(std::move(p));
+    }
+    hair::SimulationOptions o;
+    o.model =
+        this->Model == PROJECTIVE ? hair::StrandModel::Projective : hair::StrandModel::SuperHelix;
+    o.timeStep = this->TimeStep;
+    o.frameInterval = 1.0 / this->FrameRate;
+    o.gravity = Eigen::Vector3d(this->Gravity);
+    o.wind = Eigen::Vector3d(this->Wind);
+    o.threads = this->NumberOfThreads;
+    o.motion.kind = static_cast<hair::HeadMotion::Kind>(this->BodyMotion);
+    o.motion.amplitude = this->MotionAmplitude;
+    o.motion.frequency = this->MotionFrequency;
+    o.motion.axis = Eigen::Vector3d(this->MotionAxis);
+    o.motion.pivot = Eigen::Vector3d(this->MotionPivot);
+    if (hair::Status s = in.Sim.initialize(guides, parts, o); !s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: " << s.message());
+      return 0;
+    }
+    if (!this->StateFileName.empty())
+    {
+      hair::Status s =
+          in.Writer.create(this->StateFileName, in.Sim.header(), in.Sim.extraEnergyTerms());
+      s = s ? in.Writer.append(in.Sim.frame(0)) : s;
+      if (!s)
+      {
+        vtkErrorMacro(<< "Hair Simulation: " << s.message());
+        return 0;
+      }
+    }
+    in.Initialized = true;
+    in.BuiltAt = mtime;
+  }
+
+  // The frame of the requested time; computing forward from the last cached frame.
+  const double interval = 1.0 / this->FrameRate;
+  int index = 0;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    index = static_cast<int>(std::lround(std::max(0.0, t) / interval));
+  }
+  const int last = static_cast<int>(std::floor(this->Duration / interval + 1e-9));
+  index = std::min(index, last);
+  // Frame by frame, each written (and flushed) as soon as it exists, so that a run that is
+  // killed or aborted keeps everything computed before.
+  const int before = in.Sim.numberOfFrames();
+  for (int f = before; f <= index; ++f)
+  {
+    const hair::Status s = in.Sim.advanceTo(f + 1);
+    if (!s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: " << s.message());
+      return 0;
+    }
+    if (in.Writer.isOpen())
+    {
+      if (hair::Status w = in.Writer.append(in.Sim.frame(f)); !w)
+      {
+        vtkErrorMacro(<< "Hair Simulation: " << w.message());
+        in.Writer.close();
+      }
+    }
+    this->UpdateProgress(double(f - before + 1) / (index - before + 1));
+    if (this->GetAbortExecute())
+    {
+      vtkWarningMacro(<< "Hair Simulation: aborted at t = " << in.Sim.frame(f).time
+                      << " s; the frames computed so far are kept.");
+      index = f;
+      break;
+    }
+  }
+  const hair::StateFrame& frame = in.Sim.frame(index);
+  vtkPolyData* strandsOut = vtkPolyData::GetData(outputVector, 0);
+  hair::convert::toStrands(in.Sim.header(), frame, strandsOut);
+  strandsOut->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
+
+  // Energy and contacts of every frame computed so far.
+  std::vector<double> times;
+  std::map<std::string, std::vector<double>> energies;
+  for (int f = 0; f < in.Sim.numberOfFrames(); ++f)
+  {
+    times.push_back(in.Sim.frame(f).time);
+    for (const auto& [name, value] : in.Sim.frame(f).energy)
+    {
+      energies[name].push_back(value);
+    }
+    energies["nodes_inside"].push_back(static_cast<double>(in.Sim.contacts()[f]));
+    energies["max_depth"].push_back(in.Sim.maxDepth()[f]);
+  }
+  vtkTable* table = vtkTable::GetData(outputVector, 1);
+  hair::convert::toEnergyTable(times, energies, table);
+  table->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
+  return 1;
+}

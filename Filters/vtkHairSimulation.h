@@ -1,0 +1,108 @@
+/**
+ * @class vtkHairSimulation
+ * @brief Advances guide strands over time (Super-Helix or projective model), answers any
+ * requested time from its cache, and writes every frame to an HDF5 state file.
+ *
+ * hair::Simulation does the work; this filter turns Hair Strands' polylines and Cylindrical
+ * Collision Map's tables into a scene, time requests into frames, and frames into
+ * polylines. Port 0: the strands; port 1: any number of collision tables (optional).
+ * Output 0: the strands at the requested time (Velocity, Speed; cell data StrandId and the
+ * per-strand parameters). Output 1: one row per computed frame of every energy term, the
+ * nodes inside a body part and the deepest of them.
+ */
+#ifndef vtkHairSimulation_h
+#define vtkHairSimulation_h
+
+#include "HairDynamicsFiltersModule.h"
+
+#include <vtkPolyDataAlgorithm.h>
+
+#include <memory>
+#include <string>
+
+class HAIRDYNAMICSFILTERS_EXPORT vtkHairSimulation : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkHairSimulation* New();
+  vtkTypeMacro(vtkHairSimulation, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The collision tables (Cylindrical Collision Map, output 0), any number.
+  void AddColliderConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(1, output); }
+  void RemoveAllColliders() { this->SetInputConnection(1, nullptr); }
+
+  enum ModelType
+  {
+    SUPER_HELIX = 0,
+    PROJECTIVE = 1
+  };
+  enum MotionType
+  {
+    NONE = 0,
+    SHAKE = 1,
+    NOD = 2,
+    VERTICAL = 3
+  };
+
+  vtkSetClampMacro(Model, int, SUPER_HELIX, PROJECTIVE);
+  vtkGetMacro(Model, int);
+  vtkSetClampMacro(TimeStep, double, 1e-7, 1.0);
+  vtkGetMacro(TimeStep, double);
+  vtkSetClampMacro(Duration, double, 0.0, 1e6);
+  vtkGetMacro(Duration, double);
+  vtkSetClampMacro(FrameRate, double, 1e-3, 1e4);
+  vtkGetMacro(FrameRate, double);
+  vtkSetVector3Macro(Gravity, double);
+  vtkGetVector3Macro(Gravity, double);
+  vtkSetVector3Macro(Wind, double);
+  vtkGetVector3Macro(Wind, double);
+  vtkSetClampMacro(BodyMotion, int, NONE, VERTICAL);
+  vtkGetMacro(BodyMotion, int);
+  vtkSetMacro(MotionAmplitude, double);
+  vtkGetMacro(MotionAmplitude, double);
+  vtkSetMacro(MotionFrequency, double);
+  vtkGetMacro(MotionFrequency, double);
+  vtkSetVector3Macro(MotionAxis, double);
+  vtkGetVector3Macro(MotionAxis, double);
+  vtkSetVector3Macro(MotionPivot, double);
+  vtkGetVector3Macro(MotionPivot, double);
+  vtkSetClampMacro(NumberOfThreads, int, 1, 256);
+  vtkGetMacro(NumberOfThreads, int);
+  /// Where every frame is written (HDF5, docs/state-file.md); empty: not written.
+  vtkSetStdStringFromCharMacro(StateFileName);
+  vtkGetCharFromStdStringMacro(StateFileName);
+
+  /// Drops every computed frame: the next request starts again from t = 0.
+  void Reset();
+
+protected:
+  vtkHairSimulation();
+  ~vtkHairSimulation() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Model = SUPER_HELIX;
+  double TimeStep = 1.0 / 30;
+  double Duration = 5;
+  double FrameRate = 30;
+  double Gravity[3] = {0, -9.81, 0};
+  double Wind[3] = {0, 0, 0};
+  int BodyMotion = NONE;
+  double MotionAmplitude = 0.5;
+  double MotionFrequency = 1.0;
+  double MotionAxis[3] = {0, 1, 0};
+  double MotionPivot[3] = {0, 1.45, 0.02};
+  int NumberOfThreads = 2;
+  std::string StateFileName;
+
+private:
+  vtkHairSimulation(const vtkHairSimulation&) = delete;
+  void operator=(const vtkHairSimulation&) = delete;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
