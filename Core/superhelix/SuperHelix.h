@@ -21,7 +21,8 @@ namespace hair
 {
 
 /// Wind velocity at a world position and time. Must be safe to call from several threads.
-using AirVelocityField = std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
+using AirVelocityField =
+    std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
 
 /// Everything that defines a strand before it moves.
 struct StrandSpec
@@ -33,7 +34,7 @@ struct StrandSpec
   std::uint32_t seed = 1; ///< for the natural-curvature variation
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
   Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, unless windField
-  AirVelocityField windField;                            ///< optional, overrides `wind`
+  AirVelocityField windField;                     ///< optional, overrides `wind`
   RootMotion root; ///< empty: fixed at RootState{} (root at the origin, tangent +x)
 
   /// A strand of `elements` equal elements of total length `length`.
