@@ -20,6 +20,8 @@ PACKAGES=(
   libeigen3-dev libcgal-dev libhdf5-dev libgtest-dev libgmock-dev libbenchmark-dev
   # runtime of tests, demo and studies
   python3-numpy python3-matplotlib python3-h5py python3-mpi4py xvfb xauth mpi-default-bin
+  # the GUI test: drives ParaView's menu and takes a screenshot
+  xdotool imagemagick
   # the bundled body's source (Data/make_body.sh regenerates Data/ from it)
   assimp-utils assimp-testmodels
 )

@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""The plugin in the ParaView GUI, under Xvfb: ParaView starts with the plugin on
+PV_PLUGIN_PATH, its proxies are registered (checked from the GUI's own Python with
+--script), and a screenshot of Filters > Hair is left in the test output.
+
+Usage: gui_plugin_menu.py <HairDynamics.so> <output folder>
+"""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+plugin, out = sys.argv[1], sys.argv[2]
+os.makedirs(out, exist_ok=True)
+for tool in ("Xvfb", "paraview", "xdotool", "import"):
+    if not shutil.which(tool):
+        sys.exit(f"{tool} is missing: Scripts/install-deps.sh installs it")
+
+tmp = tempfile.mkdtemp()
+marker = os.path.join(tmp, "proxies.txt")
+check = os.path.join(tmp, "check.py")
+with open(check, "w") as f:
+    f.write(f"""
+from paraview import servermanager
+pxm = servermanager.ProxyManager()
+found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filters", "HairStrands"),
+         ("filters", "HairSimulation"), ("sources", "HairStateReader"))
+         if pxm.GetPrototypeProxy(group, name) is not None]
+open({marker!r}, "w").write(" ".join(found))
+""")
+
+display = None
+for n in range(60, 99):
+    if not os.path.exists(f"/tmp/.X{n}-lock"):
+        display = f":{n}"
+        break
+xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "1400x900x24"],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+env = dict(os.environ, DISPLAY=display, PV_PLUGIN_PATH=os.path.dirname(os.path.abspath(plugin)))
+log = open(os.path.join(out, "paraview_gui.log"), "w")
+gui = subprocess.Popen(["paraview", "--dr", f"--script={check}"], env=env, stdout=log, stderr=log)
+failures = []
+try:
+    window = ""
+    deadline = time.time() + 120
+    while time.time() < deadline and not window:
+        time.sleep(1)
+        window = subprocess.run(["xdotool", "search", "--name", "^ParaView"], env=env,
+                                capture_output=True, text=True).stdout.strip()
+    if not window:
+        failures.append("the ParaView window did not appear within 120 s")
+    deadline = time.time() + 60
+    while time.time() < deadline and not os.path.exists(marker):
+        time.sleep(1)
+    found = open(marker).read().split() if os.path.exists(marker) else []
+    for name in ("CylindricalCollisionMap", "HairStrands", "HairSimulation", "HairStateReader"):
+        if name not in found:
+            failures.append(f"proxy {name} is not registered in the GUI")
+    # Filters > Hair: open the Filters menu, then hover its Hair entry (positions of this
+    # ParaView build's menu at 1400 x 900); the screenshot is for people to look at.
+    time.sleep(2)
+    subprocess.run(["xdotool", "mousemove", "215", "10", "click", "1"], env=env)
+    time.sleep(1)
+    subprocess.run(["xdotool", "mousemove", "240", "280", "sleep", "0.3", "mousemove", "245", "286", "click", "1"], env=env)
+    time.sleep(1.5)
+    shot = os.path.join(out, "gui_filters_hair.png")
+    subprocess.run(["import", "-window", "root", shot], env=env)
+    if not os.path.exists(shot):
+        failures.append("no screenshot")
+finally:
+    gui.kill()
+    gui.wait()
+    xvfb.kill()
+    xvfb.wait()
+    log.close()
+errors = [line for line in open(os.path.join(out, "paraview_gui.log")) if "HairDynamics" in line and "rror" in line]
+if errors:
+    failures.append("ParaView reported errors about the plugin: " + errors[0].strip())
+for f in failures:
+    print("FAIL " + f)
+print(f"screenshot: {os.path.join(out, 'gui_filters_hair.png')}")
+print(f"{4 - len([f for f in failures if 'proxy' in f])} of 4 proxies registered in the GUI")
+sys.exit(1 if failures else 0)
