@@ -14,6 +14,7 @@
 #include <vtkInformationVector.h>
 #include <vtkIntArray.h>
 #include <vtkLogger.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
@@ -174,6 +175,16 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
 {
   Internals& in = *this->Internal;
   vtkPolyData* strandsIn = vtkPolyData::GetData(inputVector[0], 0);
+
+  // Under MPI (pvbatch), rank 0 simulates every strand and writes the state file; the other
+  // ranks hold no strands (one writer per file; splitting strands across ranks is to come).
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1 && controller->GetLocalProcessId() > 0)
+  {
+    vtkPolyData::GetData(outputVector, 0)->Initialize();
+    vtkTable::GetData(outputVector, 1)->Initialize();
+    return 1;
+  }
 
   // (Re)build the scene when a property or an input changed since it was built.
   vtkMTimeType mtime = this->GetMTime();

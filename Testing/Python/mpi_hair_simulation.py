@@ -1,0 +1,33 @@
+"""pvbatch under MPI (2 ranks, --symmetric): Hair Simulation runs on rank 0 only, which
+holds every strand and writes the one state file; rank 1 holds none.
+
+Run: mpirun -np 2 pvbatch --symmetric Testing/Python/mpi_hair_simulation.py <HairDynamics.so> <state.h5>
+"""
+import os
+import sys
+
+from paraview import servermanager
+from paraview.simple import LegacyVTKReader, LoadPlugin
+
+LoadPlugin(sys.argv[1], remote=False, ns=globals())
+state = sys.argv[2]
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+body = LegacyVTKReader(FileNames=[os.path.join(ROOT, "Data", "body.vtk")])
+strands = HairStrands(Input=body, NumberOfStrands=10, NumberOfElements=4)  # noqa: F821
+sim = HairSimulation(Input=strands, Duration=0.2, StateFileName=state)  # noqa: F821
+sim.UpdatePipeline(0.2)
+pm = servermanager.vtkProcessModule.GetProcessModule()
+rank = pm.GetPartitionId()
+lines = sim.GetClientSideObject().GetOutputDataObject(0).GetNumberOfLines()
+
+from mpi4py import MPI  # noqa: E402
+
+counts = MPI.COMM_WORLD.allgather(lines)
+ok = counts == [10, 0]
+if rank == 0:
+    import h5py
+    with h5py.File(state, "r", swmr=True) as f:
+        ok = ok and f["time"].shape[0] == 7
+print(f"rank {rank}: {lines} strands; per rank {counts}; {'ok' if ok else 'WRONG'}")
+if not ok:
+    sys.exit(1)
