@@ -358,6 +358,16 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
   strands->SetLines(lines);
   strands->GetPointData()->AddArray(velocity);
   strands->GetPointData()->AddArray(speed);
+  for (const auto& [name, values] : frame.pointData)
+  {
+    vtkSmartPointer<vtkDoubleArray> a =
+        vtkSmartPointer<vtkDoubleArray>::Take(pointArray(name.c_str(), 1, n));
+    for (vtkIdType i = 0; i < n && i < vtkIdType(values.size()); ++i)
+    {
+      a->SetValue(i, values[i]);
+    }
+    strands->GetPointData()->AddArray(a);
+  }
   strands->GetPointData()->SetActiveScalars("Speed");
   strands->GetCellData()->AddArray(ids);
   for (const auto& [name, values] : header.strandParameters)

@@ -272,6 +272,7 @@ Status StateHeader::validate() const
 struct StateFileWriter::Impl
 {
   Handle File, Time, Positions, Velocities, Q, QDot;
+  std::map<std::string, Handle> PointData;
   std::map<std::string, Handle> Energy;
   StateHeader Header;
   std::string Path;
@@ -381,6 +382,19 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
     P->Q = createGrowing(frames.get(), "q", {strandCount, c});
     P->QDot = createGrowing(frames.get(), "qdot", {strandCount, c});
   }
+  for (const std::string& name : header.pointData)
+  {
+    if (name == "positions" || name == "velocities" || name == "q" || name == "qdot" ||
+        P->PointData.count(name))
+    {
+      return fail("the per-point array name '" + name + "' is reserved or repeated.");
+    }
+    P->PointData[name] = createGrowing(frames.get(), name.c_str(), {points});
+    if (!P->PointData[name].valid())
+    {
+      return fail("cannot create /frames/" + name + ".");
+    }
+  }
   std::vector<std::string> terms(std::begin(RequiredEnergyTerms), std::end(RequiredEnergyTerms));
   for (const auto& t : extraEnergyTerms)
   {
@@ -457,6 +471,17 @@ Status StateFileWriter::append(const StateFrame& frame)
     return Status::Error(
         where + "NaN or infinite values: the frame is not written, the frames before it are kept.");
   }
+  for (const auto& [name, dataset] : P->PointData)
+  {
+    const auto it = frame.pointData.find(name);
+    if (it == frame.pointData.end() || it->second.size() != h.numberOfPoints() ||
+        !finite(it->second))
+    {
+      return Status::Error(where + "the per-point array '" + name +
+                           "' is missing, of the "
+                           "wrong size, or not finite.");
+    }
+  }
   for (const auto& [name, value] : frame.energy)
   {
     if (P->Energy.find(name) == P->Energy.end())
@@ -475,6 +500,10 @@ Status StateFileWriter::append(const StateFrame& frame)
     {
       ok = appendSlab(P->Q.get(), t, frame.q.data()) &&
            appendSlab(P->QDot.get(), t, frame.qdot.data());
+    }
+    for (auto& [name, dataset] : P->PointData)
+    {
+      ok = ok && appendSlab(dataset.get(), t, frame.pointData.at(name).data());
     }
     for (auto& [name, dataset] : P->Energy)
     {
@@ -508,6 +537,7 @@ Status StateFileWriter::close()
     return Status::Ok();
   }
   P->Energy.clear();
+  P->PointData.clear();
   P->Time.reset();
   P->Positions.reset();
   P->Velocities.reset();
@@ -743,6 +773,31 @@ Status StateFileReader::open(const std::string& path)
     }
     if (result)
     {
+      // Per-point scalars: every other dataset of /frames shaped [T', P].
+      Handle frames(H5Gopen2(f, "/frames", H5P_DEFAULT));
+      H5G_info_t ginfo{};
+      H5Gget_info(frames.get(), &ginfo);
+      for (hsize_t k = 0; k < ginfo.nlinks; ++k)
+      {
+        char name[256] = {0};
+        H5Lget_name_by_idx(frames.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof(name),
+                           H5P_DEFAULT);
+        const std::string n = name;
+        if (n == "positions" || n == "velocities" || n == "q" || n == "qdot")
+        {
+          continue;
+        }
+        Handle d(H5Dopen2(frames.get(), name, H5P_DEFAULT));
+        const auto dims = extent(d.get());
+        if (dims.size() == 2 && dims[1] == r->Header.numberOfPoints() &&
+            std::int64_t(dims[0]) >= r->Frames)
+        {
+          r->Header.pointData.push_back(n);
+        }
+      }
+    }
+    if (result)
+    {
       Handle energy(H5Gopen2(f, "/energy", H5P_DEFAULT));
       H5G_info_t ginfo{};
       if (!energy.valid() || H5Gget_info(energy.get(), &ginfo) < 0)
@@ -824,6 +879,11 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
       Handle q(H5Dopen2(f, "/frames/q", H5P_DEFAULT)), qd(H5Dopen2(f, "/frames/qdot", H5P_DEFAULT));
       ok = q.valid() && qd.valid() && readSlab(q.get(), hsize_t(index), out.q) &&
            readSlab(qd.get(), hsize_t(index), out.qdot);
+    }
+    for (const std::string& name : P->Header.pointData)
+    {
+      Handle d(ok ? H5Dopen2(f, ("/frames/" + name).c_str(), H5P_DEFAULT) : -1);
+      ok = ok && d.valid() && readSlab(d.get(), hsize_t(index), out.pointData[name]);
     }
   }
   H5E_END_TRY;

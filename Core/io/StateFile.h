@@ -26,6 +26,8 @@ struct StateHeader
   std::map<std::string, std::vector<double>> strandParameters;
   /// Scalar attributes of the run (time step, gravity components, …), stored on /.
   std::map<std::string, double> attributes;
+  /// Names of the per-point scalars every frame carries (/frames/<name>, [T, P]).
+  std::vector<std::string> pointData;
 
   std::size_t numberOfStrands() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t numberOfPoints() const { return offsets.empty() ? 0 : std::size_t(offsets.back()); }
@@ -39,6 +41,8 @@ struct StateFrame
   std::vector<Eigen::Vector3d> positions;  ///< one per point
   std::vector<Eigen::Vector3d> velocities; ///< one per point
   std::vector<double> q, qdot;             ///< numberOfStrands × coordinatesPerStrand
+  /// Per-point scalars, one value per point, named as in the header's pointData.
+  std::map<std::string, std::vector<double>> pointData;
   /// Energy terms by name (J). The names kinetic, elastic, gravitational, dissipated and
   /// external_work are always written (0 when absent); any other term is written too.
   std::map<std::string, double> energy;

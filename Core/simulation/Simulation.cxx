@@ -165,6 +165,15 @@ void Simulation::Impl::record()
         f.positions.push_back(h.position(s));
         f.velocities.push_back(h.velocity(s));
       }
+      // Curvature |κ| and twist τ of the element each point lies on (q = (τ, κ1, κ2) per
+      // element).
+      for (int i = 0; i <= n; ++i)
+      {
+        const int e = std::min(i / Options.pointsPerElement, h.elementCount() - 1);
+        const Eigen::Vector3d k = h.q().segment<3>(3 * e);
+        f.pointData["curvature"].push_back(std::hypot(k.y(), k.z()));
+        f.pointData["twist"].push_back(k.x());
+      }
       f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
       f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
     }
@@ -207,6 +216,20 @@ void Simulation::Impl::record()
         f.velocities.push_back(Previous.empty() ? Eigen::Vector3d::Zero().eval()
                                                 : Eigen::Vector3d((nodes[i] - Previous[s][i]) / h));
       }
+      // Discrete curvature: the turning angle at a node over the segment length; the
+      // projective model has no twist.
+      for (std::size_t i = 0; i < nodes.size(); ++i)
+      {
+        double kappa = 0;
+        if (i > 0 && i + 1 < nodes.size())
+        {
+          const Eigen::Vector3d a = (nodes[i] - nodes[i - 1]).normalized();
+          const Eigen::Vector3d b = (nodes[i + 1] - nodes[i]).normalized();
+          kappa = std::atan2(a.cross(b).norm(), a.dot(b)) / ps.segmentLength(s);
+        }
+        f.pointData["curvature"].push_back(kappa);
+        f.pointData["twist"].push_back(0.0);
+      }
       for (std::size_t k = 0; k < ps.angles(s).size(); ++k)
       {
         f.q.push_back(ps.angles(s)[k].x());
@@ -227,17 +250,22 @@ void Simulation::Impl::record()
                 {"residual", e.residual}};
   }
   // Penetration, measured the same way for both models: nodes inside a part.
-  for (const Eigen::Vector3d& x : f.positions)
+  std::vector<double>& depthOf = f.pointData["contact_depth"];
+  depthOf.assign(f.positions.size(), 0.0);
+  for (std::size_t i = 0; i < f.positions.size(); ++i)
   {
+    bool inside = false;
     for (const SimulationPart& p : Parts)
     {
-      const TableQuery q = p.part.query(x);
+      const TableQuery q = p.part.query(f.positions[i]);
       if (q.inside)
       {
-        ++contacts;
-        deepest = std::max(deepest, q.depth);
+        inside = true;
+        depthOf[i] = std::max(depthOf[i], std::max(q.depth, 0.0));
       }
     }
+    contacts += inside;
+    deepest = std::max(deepest, depthOf[i]);
   }
   Frames.push_back(std::move(f));
   Contacts.push_back(contacts);
@@ -450,6 +478,7 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
     sp["internal_friction"].push_back(g.hair.internalFriction);
     sp["air_friction"].push_back(g.hair.airFriction);
   }
+  r->Header.pointData = {"curvature", "twist", "contact_depth"};
   auto& at = r->Header.attributes;
   at["time_step"] = options.timeStep;
   at["frame_interval"] = options.frameInterval;

@@ -28,6 +28,7 @@ StateHeader header(int strands, int pointsPerStrand, int coordinates)
   h.strandParameters["length"] = std::vector<double>(strands, 0.3);
   h.strandParameters["radius"] = std::vector<double>(strands, 5e-5);
   h.attributes["time_step"] = 1.0 / 30;
+  h.pointData = {"curvature"};
   return h;
 }
 
@@ -41,6 +42,10 @@ StateFrame frame(const StateHeader& h, int t)
   {
     f.positions.emplace_back(t + 0.001 * i, -double(i), 0.5 * t);
     f.velocities.emplace_back(1e-3 * t, 2e-3 * i, -1.0);
+  }
+  for (std::size_t i = 0; i < h.numberOfPoints(); ++i)
+  {
+    f.pointData["curvature"].push_back(10.0 * t + 0.5 * i);
   }
   const std::size_t nq = h.numberOfStrands() * h.coordinatesPerStrand;
   for (std::size_t i = 0; i < nq; ++i)
@@ -69,6 +74,7 @@ void expectFrameEquals(const StateFrame& a, const StateFrame& b)
   }
   EXPECT_EQ(a.q, b.q);
   EXPECT_EQ(a.qdot, b.qdot);
+  EXPECT_EQ(a.pointData, b.pointData);
   for (const auto& [name, value] : b.energy)
   {
     EXPECT_EQ(a.energy.at(name), value) << name;
@@ -126,8 +132,8 @@ TEST(StateFile, LayoutIsTheDocumentedOne)
   ASSERT_GE(f, 0);
   for (const char* name :
        {"/time", "/strands/offsets", "/strands/length", "/frames/positions", "/frames/velocities",
-        "/frames/q", "/frames/qdot", "/energy/kinetic", "/energy/elastic", "/energy/gravitational",
-        "/energy/dissipated", "/energy/external_work"})
+        "/frames/curvature", "/frames/q", "/frames/qdot", "/energy/kinetic", "/energy/elastic",
+        "/energy/gravitational", "/energy/dissipated", "/energy/external_work"})
   {
     EXPECT_GT(H5Lexists(f, name, H5P_DEFAULT), 0) << name;
   }

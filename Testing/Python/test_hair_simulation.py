@@ -46,6 +46,9 @@ for model in ("Super-Helix", "Projective"):
     again = points(fetch(sim))
     check(np.array_equal(early, again), f"{model}: asking again for an earlier time returns exactly what was computed")
     check(not np.array_equal(early, late), f"{model}: the strands move")
+    pd = fetch(sim).GetPointData()
+    check(all(pd.GetArray(a) is not None for a in ("Velocity", "curvature", "twist", "contact_depth")),
+          f"{model}: velocity, curvature, twist and contact_depth point arrays")
     energy = sim.GetClientSideObject().GetOutputDataObject(1)
     check(energy.GetNumberOfRows() == 16, f"{model}: energy table has a row per computed frame")
 
@@ -60,6 +63,8 @@ for model in ("Super-Helix", "Projective"):
         reader.UpdatePipeline(t)
         same = same and np.array_equal(points(fetch(sim)), points(fetch(reader)))
     check(same, f"{model}: the reader returns exactly the simulated frames")
+    check(fetch(reader).GetPointData().GetArray("curvature") is not None,
+          f"{model}: the reader gives the per-point arrays back")
     with h5py.File(state, "r", swmr=True) as f:
         ok = (f.attrs["format"] == "HairDynamics states" and f["frames/positions"].shape[0] == 16
               and f["energy/kinetic"].shape[0] >= 16 and f["strands/offsets"].shape[0] == 13)
