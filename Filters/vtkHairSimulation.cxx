@@ -94,10 +94,15 @@ int vtkHairSimulation::RequestInformation(vtkInformation*, vtkInformationVector*
   {
     times[i] = i * interval;
   }
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), frames);
+  // Both outputs vary in time (the energy table grows as frames are computed): without
+  // TIME_STEPS on port 1, views of the table would never ask for it again.
   const double range[2] = {0, times.back()};
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  for (int port = 0; port < 2; ++port)
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(port);
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), frames);
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  }
   return 1;
 }
 

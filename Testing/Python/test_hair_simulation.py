@@ -49,7 +49,9 @@ for model in ("Super-Helix", "Projective"):
     pd = fetch(sim).GetPointData()
     check(all(pd.GetArray(a) is not None for a in ("Velocity", "curvature", "twist", "contact_depth")),
           f"{model}: velocity, curvature, twist and contact_depth point arrays")
-    energy = sim.GetClientSideObject().GetOutputDataObject(1)
+    # Fetched as a view would ask for it: port 1 must follow time too (it reports
+    # TIME_STEPS), or a line chart of it stays at its first frame.
+    energy = fetch(sim, 1)
     check(energy.GetNumberOfRows() == 16, f"{model}: energy table has a row per computed frame")
 
     # The reader gives back, frame by frame, exactly what the simulation produced.
