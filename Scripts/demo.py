@@ -1,4 +1,4 @@
-"""The main job (for now): collision tables of the bundled head and trunk, and a picture.
+"""Part of the main job: collision tables of the bundled head and trunk, and a picture.
 
 Run through Scripts/demo.sh, or:
   xvfb-run -a pvpython Scripts/demo.py build/lib/paraview-5.11/plugins/HairDynamics/HairDynamics.so Output
@@ -8,58 +8,27 @@ import os
 import sys
 import time
 
-from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView,
-                             GetColorTransferFunction, GetScalarBar, LegacyVTKReader, LoadPlugin,
-                             SaveScreenshot, Show, UpdatePipeline, servermanager)
+from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, GetColorTransferFunction,
+                             GetScalarBar, LoadPlugin, SaveScreenshot, Show, UpdatePipeline,
+                             servermanager)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+import bundled
+
 plugin, outdir = sys.argv[1], sys.argv[2]
 os.makedirs(outdir, exist_ok=True)
 LoadPlugin(plugin, remote=False, ns=globals())
 
-
-def body_parts(path):
-    """Data/body_parts.txt: name projection origin(3) axis(3) reference(3) nθ ns hmin hmax maxR."""
-    parts = []
-    for line in open(path):
-        line = line.split("#")[0].split()
-        if not line:
-            continue
-        v = line[2:]
-        parts.append(dict(name=line[0], projection=line[1].capitalize(),
-                          origin=[float(x) for x in v[0:3]], axis=[float(x) for x in v[3:6]],
-                          reference=[float(x) for x in v[6:9]], resolution=[int(v[9]), int(v[10])],
-                          heights=[float(v[11]), float(v[12])],
-                          max_radius=0.0 if v[13] == "inf" else float(v[13])))
-    return parts
-
-
-body = LegacyVTKReader(registrationName="body.vtk", FileNames=[os.path.join(ROOT, "Data", "body.vtk")])
-
-
-def make_view():
-    v = CreateView("RenderView")
-    v.Background = [1, 1, 1]
-    try:
-        v.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
-    v.OrientationAxesVisibility = 0
-    v.CameraPosition = [1.0, 1.7, 1.2]
-    v.CameraFocalPoint = [0.0, 1.28, 0.0]
-    v.CameraViewUp = [0, 1, 0]
-    v.CameraViewAngle = 30
-    return v
-
+mesh = bundled.body()
+overlay = bundled.white_view([1.0, 1.7, 1.2], [0.0, 1.28, 0.0])
+tables_only = bundled.white_view([1.0, 1.7, 1.2], [0.0, 1.28, 0.0])
 
 # Left: the body with the tables' sample grids over it (where the grid leaves the skin, the
 # table departs from the mesh). Right: the surfaces the tables represent, by radius.
-overlay, tables_only = make_view(), make_view()
 layout = CreateLayout("collision tables")
 layout.SplitHorizontal(0, 0.5)
 AssignViewToLayout(view=overlay, layout=layout, hint=1)
 AssignViewToLayout(view=tables_only, layout=layout, hint=2)
-skin = Show(body, overlay)
+skin = Show(mesh, overlay)
 skin.DiffuseColor = [0.87, 0.76, 0.68]
 lut = GetColorTransferFunction("Radius")
 lut.ApplyPreset("Cool to Warm", True)
@@ -67,18 +36,9 @@ lut.RescaleTransferFunction(0.0, 0.3)
 lut.AutomaticRescaleRangeMode = "Never"
 
 print(f"{'part':<8}{'projection':<13}{'table':>9}{'rays hit':>10}{'radius range (m)':>20}{'time (s)':>10}")
-for part in body_parts(os.path.join(ROOT, "Data", "body_parts.txt")):
-    table = CylindricalCollisionMap(registrationName=f"{part['name']} table", Input=body)  # noqa: F821
-    table.Projection = part["projection"]
-    table.AutomaticFrame = 0
-    table.Origin = part["origin"]
-    table.Axis = part["axis"]
-    table.ReferenceDirection = part["reference"]
-    table.Resolution = part["resolution"]
-    table.HeightRange = part["heights"]
-    table.MaximumRadius = part["max_radius"]
-    table.BodyPartName = part["name"]
-    table.MovesWithHead = 1 if part["name"] == "head" else 0
+parts = {p["name"]: p for p in bundled.body_parts()}
+for name, table in bundled.tables(mesh, CylindricalCollisionMap).items():  # noqa: F821
+    part = parts[name]
     start = time.time()
     UpdatePipeline(proxy=table)
     elapsed = time.time() - start

@@ -20,24 +20,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction,  # noqa: E402
-                             LegacyVTKReader, LoadPlugin, SaveScreenshot, SaveState, Show,
-                             servermanager)
+from paraview.simple import (ColorBy, GetColorTransferFunction, LoadPlugin,  # noqa: E402
+                             SaveScreenshot, SaveState, Show)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+import bundled  # noqa: E402
+
 plugin, out = sys.argv[1], sys.argv[2]
 os.makedirs(os.path.join(out, "frames"), exist_ok=True)
 LoadPlugin(plugin, remote=False, ns=globals())
 
 DURATION = 5.0
-body = LegacyVTKReader(registrationName="body.vtk", FileNames=[os.path.join(ROOT, "Data", "body.vtk")])
+body = bundled.body()
 # The bundled body's parts (Data/body_parts.txt): the head follows the shake, the trunk stays.
-head = CylindricalCollisionMap(registrationName="head table", Input=body,  # noqa: F821
-                               Projection="Spherical", AutomaticFrame=0, Origin=[0, 1.555, 0.055],
-                               MaximumRadius=0.16, BodyPartName="head", MovesWithHead=1)
-trunk = CylindricalCollisionMap(registrationName="trunk table", Input=body,  # noqa: F821
-                                AutomaticFrame=0, Origin=[0, 0, 0.01], HeightRange=[1.0, 1.47],
-                                MaximumRadius=0.30, BodyPartName="trunk")
+parts = bundled.tables(body, CylindricalCollisionMap)  # noqa: F821
+head, trunk = parts["head"], parts["trunk"]
 
 runs = {}
 for model, elements in (("Projective", 40), ("Super-Helix", 10)):
@@ -55,14 +51,7 @@ for model, elements in (("Projective", 40), ("Super-Helix", 10)):
     runs[model] = dict(sim=sim, state=state, seconds=time.time() - start)
 
 # --- Pictures of the projective run (the model with hair-body contact today) ----------
-view = CreateView("RenderView")
-view.ViewSize = [500, 600]
-view.Background = [1, 1, 1]
-try:
-    view.UseColorPaletteForBackground = 0
-except AttributeError:
-    pass
-view.OrientationAxesVisibility = 0
+view = bundled.white_view([0.75, 1.75, -0.75], [0.0, 1.45, 0.0], size=[500, 600])
 skin = Show(body, view)
 skin.DiffuseColor = [0.87, 0.76, 0.68]
 hair = Show(runs["Projective"]["sim"], view)
@@ -72,10 +61,6 @@ lut = GetColorTransferFunction("Speed")
 lut.ApplyPreset("Inferno (matplotlib)", True)
 lut.RescaleTransferFunction(0.0, 2.0)
 lut.AutomaticRescaleRangeMode = "Never"
-view.CameraPosition = [0.75, 1.75, -0.75]
-view.CameraFocalPoint = [0.0, 1.45, 0.0]
-view.CameraViewUp = [0, 1, 0]
-view.CameraViewAngle = 30
 pictures = []
 for i, t in enumerate(np.arange(0, DURATION + 1e-9, 0.25)):
     view.ViewTime = t
