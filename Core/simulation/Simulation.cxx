@@ -130,6 +130,7 @@ struct Simulation::Impl
   std::vector<long> Contacts;
   std::vector<double> Depth;
   std::vector<std::vector<Eigen::Vector3d>> Previous; // projective: nodes one step before
+  Status Failed; ///< set when a step failed: the strands may then be at different times
 
   double time() const
   {
@@ -501,6 +502,10 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
   {
     return Status::Error("the simulation is not initialized.");
   }
+  if (!P->Failed)
+  {
+    return P->Failed; // a failed step leaves strands at different times: stay stopped
+  }
   const int first = numberOfFrames();
   for (int f = first; f < frames; ++f)
   {
@@ -514,6 +519,7 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
       {
         if (Status s = stepStrands(P->Helices, dt, P->Options.threads); !s)
         {
+          P->Failed = s;
           return s;
         }
       }
@@ -535,6 +541,7 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
         }
         if (Status s = ps.step(); !s)
         {
+          P->Failed = s;
           return s;
         }
       }

@@ -98,7 +98,8 @@ public:
                     const std::vector<SimulationPart>& parts, const SimulationOptions& options);
   /// Computes frames until `frames` of them exist. `progress` (fraction of the requested
   /// frames) may abort; frames computed before the abort are kept. A step that fails stops
-  /// with an error naming the strand and the time; the frames before it are kept.
+  /// with an error naming the strand and the time; the frames before it are kept, and every
+  /// later call returns the same error (initialize again to restart).
   Status advanceTo(int frames, const Progress& progress = {});
 
   int numberOfFrames() const;
