@@ -152,25 +152,30 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& v, double u,
   const Eigen::Vector3d vxe0(0, v.z(), -v.y());
   const double pv = k.dot(v);
   const Eigen::Vector3d kxv = k.cross(v);
-  for (int i = 0; i < 3; ++i)
-  {
-    const Eigen::Vector3d w = Eigen::Vector3d::Unit(i);
-    const double pw = k[i], vw = v[i];
-    const Eigen::Vector3d wxe0 = w.cross(e0);
-    d2gW.col(i) = (u6 * h.chi1 * pv * pw + u4 * h.psi1 * vw) * kxe0 +
-                  u4 * h.psi1 * (pv * wxe0 + pw * vxe0) +
-                  (u7 * h.chi2 * pv * pw + u5 * h.psi2 * vw) * wk +
-                  u5 * h.psi2 *
-                      (pv * (w * k.x() + k * w.x() - 2 * pw * e0) +
-                       pw * (v * k.x() + k * v.x() - 2 * pv * e0)) +
-                  u3 * h.phi2 * (v * w.x() + w * v.x() - 2 * vw * e0);
-    if (dGkW)
+  const double c1 = u4 * h.psi1, c2 = u5 * h.psi2, c3 = u3 * h.phi2;
+  // Column i of d2gW (w = e_i, so k·w = k_i, v·w = v_i), as outer products:
+  //   (u6 χ1 pv k_i + c1 v_i) k×e0 + c1 (pv e_i×e0 + k_i v×e0)
+  //   + (u7 χ2 pv k_i + c2 v_i) wk + c2 (pv (k0 e_i + δ_i0 k − 2 k_i e0) + k_i (v k0 + k v0 − 2 pv
+  //   e0))
+  //   + c3 (δ_i0 v + v0 e_i − 2 v_i e0)
+  const Eigen::Vector3d t = v * k.x() + k * v.x() - 2 * pv * e0;
+  d2gW.noalias() = kxe0 * (u6 * h.chi1 * pv * k + c1 * v).transpose() +
+                   wk * (u7 * h.chi2 * pv * k + c2 * v).transpose() +
+                   (c1 * vxe0 + c2 * t) * k.transpose();
+  d2gW.col(0) += c2 * pv * k + c3 * v;
+  d2gW.row(0) -= (2 * c2 * pv) * k.transpose() + (2 * c3) * v.transpose();
+  d2gW.diagonal().array() += c2 * pv * k.x() + c3 * v.x();
+  d2gW(2, 1) -= c1 * pv; // e1 × e0 = −e2
+  d2gW(1, 2) += c1 * pv; // e2 × e0 = e1
+  if (dGkW)
+    for (int i = 0; i < 3; ++i)
     {
+      const Eigen::Vector3d w = Eigen::Vector3d::Unit(i);
+      const double pw = k[i];
       const Eigen::Vector3d kxw = k.cross(w);
       dGkW->col(i) = 0.5 * (u4 * h.psi1 * (pw * kxv + pv * kxw) +
                             u5 * h.psi2 * (pw * k.cross(kxv) + pv * k.cross(kxw)) +
                             u3 * h.phi2 * (w.cross(kxv) + v.cross(kxw)));
     }
-  }
 }
 } // namespace hair

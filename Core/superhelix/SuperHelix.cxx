@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -24,10 +25,41 @@ constexpr double GaussX[GaussPoints] = {
 constexpr double GaussW[GaussPoints] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
                                         0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
 constexpr double MaxTurnPerInterval = M_PI / 2;
+// Up to this size (3N) the step's matrix is factorized by the unblocked LU in solve();
+// measured faster than Eigen's blocked PartialPivLU at 3N = 30, slower at 3N = 60.
+constexpr int UnblockedLuMax = 45;
 
+// x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
+// allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
 bool finite(const Eigen::MatrixXd& m)
 {
-  return m.allFinite();
+  const double* d = m.data();
+  const Eigen::Index n = m.size();
+  double acc[4] = {0, 0, 0, 0};
+  Eigen::Index i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (int j = 0; j < 4; ++j)
+      acc[j] += d[i + j] - d[i + j];
+  for (; i < n; ++i)
+    acc[0] += d[i] - d[i];
+  return acc[0] + acc[1] + acc[2] + acc[3] == 0;
+}
+
+// y −= f x over n entries (distinct arrays; vectorizable).
+inline void subtractScaled(double* __restrict y, const double* __restrict x, double f, int n)
+{
+  for (int i = 0; i < n; ++i)
+    y[i] -= f * x[i];
+}
+
+// [v]× m, column by column (cheaper than a 3 × 3 product with skew(v)).
+EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Eigen::Matrix3d& m)
+{
+  Eigen::Matrix3d r;
+  r.col(0) = v.cross(m.col(0));
+  r.col(1) = v.cross(m.col(1));
+  r.col(2) = v.cross(m.col(2));
+  return r;
 }
 
 // Deterministic on every platform (std::uniform_real_distribution is not).
@@ -207,7 +239,8 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       {
         for (int g = 0; g < GaussPoints; ++g)
         {
-          Node nd;
+          out.nodes.emplace_back();
+          Node& nd = out.nodes.back();
           nd.element = e;
           nd.u = hsub * (sI + GaussX[g]);
           nd.w = hsub * GaussW[g];
@@ -215,6 +248,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           const Eigen::Vector3d Fg = Fr * hp.g;
           nd.J = Fr * hp.dg;
           const Eigen::Vector3d Jkd = nd.J * kd;
+          nd.jkd = Jkd;
           nd.r = r + Fg;
           nd.v = v + om.cross(Fg) + Jkd;
           nd.a0 = ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * hp.d2g;
@@ -223,7 +257,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.contact.setZero();
           kinetic += 0.5 * nd.w * RhoS * nd.v.squaredNorm();
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
-          out.nodes.push_back(nd);
         }
       }
       el.count = static_cast<int>(out.nodes.size()) - el.first;
@@ -488,97 +521,164 @@ void SuperHelix::assembleVelocityJacobian()
   const Kinematics& k = Cur;
   struct Maps
   {
-    Eigen::Matrix3d Pc, Pl, Po, Sl, So, Tc, Tl, To, PhiEnd, FgEndX, AkdX;
+    // Moments over the element's samples of the maps (δa, δα, δω) ↦ δa0 (P: weighted by
+    // Jᵀ, S: plain, T: by [r]×), and what is handed on to the next element.
+    Eigen::Matrix3d Pc, Pl, Po, So, Tl, To, PhiEnd;
+    Eigen::Vector3d sumFg, sumR, fgEnd, akd;
     double Sc;
+    // The element's own k̇-dependence: moments of δa0 (own samples), and (δα, δa) at its end.
+    Eigen::Matrix3d ownR, ownF, ownM, Dal0, Dac0;
+  };
+  // 3 × 9 maps acting on a state (δa, δα, δω), stored as three 3 × 3 blocks.
+  struct Map39
+  {
+    Eigen::Matrix3d a, l, w;
   };
   thread_local std::vector<Maps> maps;
-  thread_local std::vector<Eigen::Matrix3d> RP, FP, MP;
+  thread_local std::vector<Map39> G, LamM, LamF; // G_p, and Λ_{p+1} (tail torque, tail force)
   maps.resize(n);
-  RP.resize(n);
-  FP.resize(n);
-  MP.resize(n);
+  G.resize(n);
+  LamM.resize(n);
+  LamF.resize(n);
+  // Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]× = −2 Fg ωᵀ + ω Fgᵀ + (ω·Fg) I − 2 [J k̇]×
+  // ([a × b]× = b aᵀ − a bᵀ, [a]× [b]× = b aᵀ − (a·b) I); linear in (Fg, J k̇).
   auto phi = [](const Eigen::Vector3d& om, const Eigen::Vector3d& fg, const Eigen::Vector3d& jkd)
-  { return Eigen::Matrix3d(-skew(om.cross(fg)) - skew(om) * skew(fg) - 2 * skew(jkd)); };
+  {
+    Eigen::Matrix3d m = om * fg.transpose() - 2 * fg * om.transpose() - 2 * skew(jkd);
+    m.diagonal().array() += om.dot(fg);
+    return m;
+  };
+  Eigen::Matrix3d D2W, DGW;
   for (int e = 0; e < n; ++e)
   {
     const Element& el = k.elements[e];
-    const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
+    const Eigen::Vector3d kq = Q.segment<3>(3 * e), kd = Qdot.segment<3>(3 * e);
+    const Eigen::Vector3d& om = el.omega0;
     Maps& m = maps[e];
     m.Pc.setZero();
     m.Pl.setZero();
     m.Po.setZero();
-    m.Sl.setZero();
-    m.So.setZero();
-    m.Tc.setZero();
     m.Tl.setZero();
     m.To.setZero();
+    m.ownR.setZero();
+    m.ownF.setZero();
+    m.ownM.setZero();
+    m.sumFg.setZero();
+    m.sumR.setZero();
     m.Sc = 0;
+    Eigen::Vector3d sumJkd = Eigen::Vector3d::Zero();
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       const Node& nd = k.nodes[j];
       const Eigen::Vector3d fg = nd.r - el.r0;
-      const Eigen::Matrix3d fgX = skew(fg), rX = skew(nd.r);
-      const Eigen::Matrix3d Phi = phi(el.omega0, fg, nd.J * kd);
+      const Eigen::Matrix3d Phi = phi(om, fg, nd.jkd);
       const Eigen::Matrix3d JtW = nd.w * nd.J.transpose();
       m.Pc += JtW;
-      m.Pl.noalias() -= JtW * fgX;
+      // −Jᵀ [Fg]× = ([Fg]× J)ᵀ
+      m.Pl.noalias() += nd.w * crossCols(fg, nd.J).transpose();
       m.Po.noalias() += JtW * Phi;
       m.Sc += nd.w;
-      m.Sl -= nd.w * fgX;
-      m.So += nd.w * Phi;
-      m.Tc += nd.w * rX;
-      m.Tl.noalias() -= nd.w * (rX * fgX);
-      m.To.noalias() += nd.w * (rX * Phi);
+      m.sumFg += nd.w * fg;
+      sumJkd += nd.w * nd.jkd;
+      m.sumR += nd.w * nd.r;
+      // −[r]× [Fg]× = (r·Fg) I − Fg rᵀ
+      m.Tl.noalias() -= (nd.w * fg) * nd.r.transpose();
+      m.Tl.diagonal().array() += nd.w * nd.r.dot(fg);
+      m.To.noalias() += nd.w * crossCols(nd.r, Phi);
+      // Own element: δa0 = 2 ([ω]× J + F0 D²g[k̇, ·]) δk̇ at this sample.
+      helixBilinear(kq, kd, nd.u, D2W, nullptr, &nd.coefficients);
+      Eigen::Matrix3d delta = crossCols(om, nd.J);
+      delta.noalias() += el.F0 * D2W;
+      delta *= 2 * nd.w;
+      m.ownR.noalias() += nd.J.transpose() * delta;
+      m.ownF += delta;
+      m.ownM.noalias() += crossCols(nd.r, delta);
     }
-    m.PhiEnd = phi(el.omega0, el.fgEnd, el.jkdEnd);
-    m.FgEndX = skew(el.fgEnd);
-    m.AkdX = skew(el.akd);
+    m.So = phi(om, m.sumFg, sumJkd); // Σ w Φ
+    m.PhiEnd = phi(om, el.fgEnd, el.jkdEnd);
+    m.fgEnd = el.fgEnd;
+    m.akd = el.akd;
+    helixBilinear(kq, kd, Spec.elementLengths[e], D2W, &DGW);
+    m.Dal0 = crossCols(om, el.A) + 2 * el.F0 * DGW;
+    m.Dac0 = 2 * (crossCols(om, el.jEnd) + el.F0 * D2W);
   }
-  Eigen::Matrix3d D2W, DGW;
-  for (int qe = 0; qe < n; ++qe)
+  // For a column block qe, the state S_p = [δa; δα; δω] (9 × 3) at the start of each later
+  // element p evolves linearly, S_{p+1} = Prop_p S_p with
+  //   Prop_p = [I, −[Fg_end]×, Φ_end; 0, I, −[A k̇]×; 0, 0, I],
+  // and element p contributes R_p = P_p S_p to its own row, [M_p; F_p] = Mm_p S_p to the
+  // tail torque and force felt by the rows before it (row p sees A_pᵀ tailM + W_pᵀ tailF).
+  // Backward, once: Λ_p = Mm_p + Λ_{p+1} Prop_p gives Σ_{p' >= p} [M_p'; F_p'] = Λ_p S_p, so
+  // row p > qe is C_p,qe = G_p S_p with G_p = −ρS (P_p + [A_pᵀ W_pᵀ] Λ_{p+1} Prop_p), independent
+  // of qe: a 3 × 9 by 9 × 3 product per block instead of propagating the tail sums.
   {
-    const Element& eq = k.elements[qe];
-    const Eigen::Vector3d kq = Q.segment<3>(3 * qe), kdq = Qdot.segment<3>(3 * qe);
-    const Eigen::Matrix3d omX = skew(eq.omega0);
-    Eigen::Matrix3d ownR = Eigen::Matrix3d::Zero(), ownF = Eigen::Matrix3d::Zero(),
-                    ownM = Eigen::Matrix3d::Zero();
-    for (int j = eq.first; j < eq.first + eq.count; ++j)
-    {
-      const Node& nd = k.nodes[j];
-      helixBilinear(kq, kdq, nd.u, D2W, nullptr, &nd.coefficients);
-      const Eigen::Matrix3d delta = 2 * (omX * nd.J + eq.F0 * D2W);
-      ownR.noalias() += nd.w * (nd.J.transpose() * delta);
-      ownF += nd.w * delta;
-      ownM.noalias() += nd.w * (skew(nd.r) * delta);
-    }
-    helixBilinear(kq, kdq, Spec.elementLengths[qe], D2W, &DGW);
-    Eigen::Matrix3d Dw = eq.A;
-    Eigen::Matrix3d Dal = omX * eq.A + 2 * eq.F0 * DGW;
-    Eigen::Matrix3d Dac = 2 * (omX * eq.jEnd + eq.F0 * D2W);
-    RP[qe] = ownR;
-    FP[qe] = ownF;
-    MP[qe] = ownM;
-    for (int p = qe + 1; p < n; ++p)
-    {
-      const Maps& m = maps[p];
-      RP[p].noalias() = m.Pc * Dac + m.Pl * Dal + m.Po * Dw;
-      FP[p].noalias() = m.Sc * Dac + m.Sl * Dal + m.So * Dw;
-      MP[p].noalias() = m.Tc * Dac + m.Tl * Dal + m.To * Dw;
-      Dac += m.PhiEnd * Dw - m.FgEndX * Dal;
-      Dal -= m.AkdX * Dw;
-    }
-    Eigen::Matrix3d tailF = Eigen::Matrix3d::Zero(), tailM = Eigen::Matrix3d::Zero();
+    Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+    Map39 lf = lm; // Λ_{p+1}: tail torque rows lm, tail force rows lf
     for (int p = n - 1; p >= 0; --p)
     {
+      const Maps& m = maps[p];
       const Element& ep = k.elements[p];
-      Eigen::Matrix3d b = ep.A.transpose() * tailM + ep.W.transpose() * tailF;
-      if (p >= qe)
+      LamM[p] = lm;
+      LamF[p] = lf;
+      // Λ_{p+1} Prop_p, block columns (δa, δα, δω); X [v]× = −([v]× Xᵀ)ᵀ.
+      auto prop = [&m](Map39& x)
       {
-        b += RP[p];
-        tailF += FP[p];
-        tailM += MP[p];
+        x.w.noalias() += x.a * m.PhiEnd;
+        x.w.noalias() += crossCols(m.akd, x.l.transpose()).transpose();   // − l [A k̇]×
+        x.l.noalias() += crossCols(m.fgEnd, x.a.transpose()).transpose(); // − a [Fg_end]×
+      };
+      prop(lm);
+      prop(lf);
+      Map39& g = G[p];
+      g.a = m.Pc;
+      g.l = m.Pl;
+      g.w = m.Po;
+      g.a.noalias() += ep.A.transpose() * lm.a + ep.W.transpose() * lf.a;
+      g.l.noalias() += ep.A.transpose() * lm.l + ep.W.transpose() * lf.l;
+      g.w.noalias() += ep.A.transpose() * lm.w + ep.W.transpose() * lf.w;
+      g.a *= -RhoS;
+      g.l *= -RhoS;
+      g.w *= -RhoS;
+      // Λ_p = Mm_p + Λ_{p+1} Prop_p: tail torque [[Σ w r]×, Tl, To], force [Σ w I, −[Σ w Fg]×, So].
+      lm.a += skew(m.sumR);
+      lm.l += m.Tl;
+      lm.w += m.To;
+      lf.a.diagonal().array() += m.Sc;
+      lf.l -= skew(m.sumFg);
+      lf.w += m.So;
+    }
+  }
+  for (int qe = 0; qe < n; ++qe)
+  {
+    const Maps& mq = maps[qe];
+    // State at the start of element qe + 1.
+    Eigen::Matrix3d Dac = mq.Dac0, Dal = mq.Dal0, Dw = k.elements[qe].A;
+    // Tail torque and force from the elements past qe.
+    const Map39 &lm = LamM[qe], &lf = LamF[qe];
+    Eigen::Matrix3d HM, HF;
+    HM.noalias() = lm.a * Dac + lm.l * Dal + lm.w * Dw;
+    HF.noalias() = lf.a * Dac + lf.l * Dal + lf.w * Dw;
+    const Element& eq = k.elements[qe];
+    Eigen::Matrix3d b = mq.ownR;
+    b.noalias() += eq.A.transpose() * HM + eq.W.transpose() * HF;
+    C.block<3, 3>(3 * qe, 3 * qe) = -RhoS * b;
+    // Rows p < qe: the whole tail from qe acts rigidly, C_p = A_pᵀ tailM + W_pᵀ tailF.
+    const Eigen::Matrix3d TM = -RhoS * (mq.ownM + HM), TF = -RhoS * (mq.ownF + HF);
+    for (int p = 0; p < qe; ++p)
+    {
+      const Element& ep = k.elements[p];
+      C.block<3, 3>(3 * p, 3 * qe).noalias() = ep.A.transpose() * TM + ep.W.transpose() * TF;
+    }
+    for (int p = qe + 1; p < n; ++p)
+    {
+      const Map39& g = G[p];
+      C.block<3, 3>(3 * p, 3 * qe).noalias() = g.a * Dac + g.l * Dal + g.w * Dw;
+      if (p + 1 < n)
+      {
+        const Maps& m = maps[p];
+        Dac.noalias() += m.PhiEnd * Dw;
+        Dac -= crossCols(m.fgEnd, Dal);
+        Dal -= crossCols(m.akd, Dw);
       }
-      C.block<3, 3>(3 * p, 3 * qe) = -RhoS * b;
     }
   }
 }
@@ -591,14 +691,78 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
   Lhs = airScale * M - h * C;
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
-  Eigen::VectorXd rhs =
-      M * Qdot + h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix() - C * Qdot);
-  Lu.compute(Lhs);
-  const double pivot = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
-  if (!(pivot > 1e-30 * Lhs.diagonal().cwiseAbs().maxCoeff()))
+  Rhs.noalias() = M * Qdot;
+  Rhs.noalias() -= h * (C * Qdot);
+  Rhs += h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
+  const int m = static_cast<int>(Lhs.rows());
+  const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
+  if (m > UnblockedLuMax)
+  {
+    // Large systems: Eigen's blocked LU (its GEMM kernels pay off from 3N ≈ 60 up).
+    Lu.compute(Lhs);
+    const double pivotL = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
+    if (!(pivotL > 1e-30 * scale))
+      return Status::Error("the step's matrix is singular (smallest pivot " +
+                           std::to_string(pivotL) + ")");
+    qdotNext = Lu.solve(Rhs);
+    return Status::Ok();
+  }
+  // Small systems: LU with partial pivoting (row interchanges, as LAPACK getrf / Eigen's
+  // PartialPivLU), unblocked and column-oriented: at 3N = 30 Eigen's blocked kernel spent
+  // most of its time in packing and dispatch.
+  Pivots.resize(static_cast<size_t>(m));
+  double* a = Lhs.data();
+  double pivot = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < m; ++c)
+  {
+    double* col = a + static_cast<std::ptrdiff_t>(c) * m;
+    int piv = c;
+    double best = std::abs(col[c]);
+    for (int i = c + 1; i < m; ++i)
+      if (std::abs(col[i]) > best)
+      {
+        best = std::abs(col[i]);
+        piv = i;
+      }
+    Pivots[c] = piv;
+    if (!(best > 0))
+    {
+      pivot = best; // singular (or NaN): refused below
+      break;
+    }
+    pivot = std::min(pivot, best);
+    if (piv != c)
+      for (int j = 0; j < m; ++j)
+        std::swap(a[static_cast<std::ptrdiff_t>(j) * m + c],
+                  a[static_cast<std::ptrdiff_t>(j) * m + piv]);
+    const double inv = 1.0 / col[c];
+    for (int i = c + 1; i < m; ++i)
+      col[i] *= inv;
+    for (int j = c + 1; j < m; ++j)
+    {
+      double* cj = a + static_cast<std::ptrdiff_t>(j) * m;
+      const double f = cj[c];
+      if (f != 0)
+        subtractScaled(cj + c + 1, col + c + 1, f, m - c - 1);
+    }
+  }
+  if (!(pivot > 1e-30 * scale))
     return Status::Error("the step's matrix is singular (smallest pivot " + std::to_string(pivot) +
                          ")");
-  qdotNext = Lu.solve(rhs);
+  double* x = Rhs.data();
+  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
+    std::swap(x[c], x[Pivots[c]]);
+  for (int c = 0; c < m; ++c)
+  {
+    subtractScaled(x + c + 1, a + static_cast<std::ptrdiff_t>(c) * m + c + 1, x[c], m - c - 1);
+  }
+  for (int c = m - 1; c >= 0; --c)
+  {
+    const double* col = a + static_cast<std::ptrdiff_t>(c) * m;
+    x[c] /= col[c];
+    subtractScaled(x, col, x[c], c);
+  }
+  qdotNext = Rhs;
   return Status::Ok();
 }
 

@@ -156,6 +156,7 @@ private:
     int element;
     double u, w;
     Eigen::Vector3d r, v, v0, a0, wind, contact;
+    Eigen::Vector3d jkd; // J k̇ of the own element (the point's velocity relative to its frame)
     Eigen::Matrix3d J;
     HelixCoefficients coefficients;
   };
@@ -203,8 +204,9 @@ private:
   bool CurValid = false;
   mutable std::vector<StrandSample> Samples;
   Eigen::MatrixXd M, C, Lhs;
-  Eigen::VectorXd F;
-  Eigen::PartialPivLU<Eigen::MatrixXd> Lu;
+  Eigen::VectorXd F, Rhs;
+  std::vector<int> Pivots;                 // row interchanges of the unblocked LU of Lhs (small N)
+  Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
   std::vector<Eigen::Vector3d> ContactBuffer;
 };
 
