@@ -419,8 +419,9 @@ TableQuery BodyPart::query(const Eigen::Vector3d& pWorld) const
   if (q.covered)
   {
     q.surfacePoint = pose * q.surfacePoint;
-    q.nearest = pose * q.nearest;
     q.normal = pose.linear() * q.normal;
+    q.nearest = pWorld + q.depth * q.normal; // T = P + ((Q − P)·N) N, in world coordinates
+
   }
   return q;
 }
