@@ -421,7 +421,6 @@ TableQuery BodyPart::query(const Eigen::Vector3d& pWorld) const
     q.surfacePoint = pose * q.surfacePoint;
     q.normal = pose.linear() * q.normal;
     q.nearest = pWorld + q.depth * q.normal; // T = P + ((Q − P)·N) N, in world coordinates
-
   }
   return q;
 }
