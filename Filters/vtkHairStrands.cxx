@@ -185,14 +185,8 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
       vtkErrorMacro(<< "Hair Strands: " << s.message());
       return 0;
     }
-    // Normals face out of the solid: flip them all if the mesh's triangles face inwards
-    // (negative enclosed volume, the sum of the tetrahedra origin-triangle).
-    double volume = 0;
-    for (const auto& t : mesh.triangles)
-    {
-      volume += mesh.points[t[0]].dot(mesh.points[t[1]].cross(mesh.points[t[2]])) / 6;
-    }
-    if (volume < 0)
+    // Normals face out of the solid: flip them all if the mesh's triangles face inwards.
+    if (mesh.signedVolume() < 0)
     {
       for (hair::Root& r : roots)
       {

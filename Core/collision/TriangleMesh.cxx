@@ -12,6 +12,8 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -54,6 +56,16 @@ Status TriangleMesh::validate(const std::string& what) const
     }
   }
   return Status::Ok();
+}
+
+double TriangleMesh::signedVolume() const
+{
+  double volume = 0;
+  for (const auto& t : triangles)
+  {
+    volume += points[t[0]].dot(points[t[1]].cross(points[t[2]])) / 6;
+  }
+  return volume;
 }
 
 std::pair<Eigen::Vector3d, Eigen::Vector3d> TriangleMesh::bounds() const

@@ -22,6 +22,10 @@ struct TriangleMesh
   /// non-finite coordinates. `what` names the input in the message (e.g. "input 0").
   Status validate(const std::string& what = "the mesh") const;
 
+  /// Volume enclosed as the triangles are ordered (the sum of the origin–triangle
+  /// tetrahedra): negative when they face inwards. Meaningful for a closed surface.
+  double signedVolume() const;
+
   /// Bounding box (min, max) of the points used by triangles.
   std::pair<Eigen::Vector3d, Eigen::Vector3d> bounds() const;
 };
