@@ -190,13 +190,15 @@ void Simulation::Impl::record()
       sum.total.rootWork += e.total.rootWork;
       sum.total.windWork += e.total.windWork;
       sum.total.contactWork += e.total.contactWork;
+      sum.total.loadWork += e.total.loadWork;
       sum.total.residual += e.total.residual;
     }
     f.energy = {{"kinetic", sum.kinetic},
                 {"elastic", sum.elastic},
                 {"gravitational", sum.gravitational},
                 {"dissipated", sum.total.frictionDissipated + sum.total.airDissipated},
-                {"external_work", sum.total.rootWork + sum.total.windWork + sum.total.contactWork},
+                {"external_work", sum.total.rootWork + sum.total.windWork + sum.total.contactWork +
+                                      sum.total.loadWork},
                 {"friction_dissipated", sum.total.frictionDissipated},
                 {"air_dissipated", sum.total.airDissipated},
                 {"root_work", sum.total.rootWork},

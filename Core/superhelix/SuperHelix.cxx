@@ -121,6 +121,8 @@ Status StrandSpec::validate() const
     return Status::Error(who + "gravity is not finite; give a vector in m/s².");
   if (!wind.allFinite())
     return Status::Error(who + "wind is not finite; give a velocity in m/s.");
+  if (!tipForce.allFinite())
+    return Status::Error(who + "the tip force is not finite; give a force in N.");
   return Status::Ok();
 }
 
@@ -255,6 +257,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.v0 = root.velocity + root.angularVelocity.cross(nd.r - root.position);
           nd.wind.setZero();
           nd.contact.setZero();
+          nd.hasK = nd.hasD = false;
           kinetic += 0.5 * nd.w * RhoS * nd.v.squaredNorm();
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
         }
@@ -420,20 +423,34 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
   if (Contacts)
   {
     const std::vector<StrandSample>& smp = samples();
-    ContactBuffer.assign(k.nodes.size(), Eigen::Vector3d::Zero());
+    ContactBuffer.assign(k.nodes.size(), ContactResponse());
     Contacts(Spec.id, time, smp, ContactBuffer);
     if (ContactBuffer.size() != k.nodes.size())
-      return Status::Error("the contact hook changed the size of the force buffer (" +
+      return Status::Error("the contact hook changed the size of the response buffer (" +
                            std::to_string(ContactBuffer.size()) + " instead of " +
-                           std::to_string(k.nodes.size()) + "); write one force per sample.");
+                           std::to_string(k.nodes.size()) + "); write one response per sample.");
     for (size_t i = 0; i < k.nodes.size(); ++i)
-      k.nodes[i].contact = ContactBuffer[i];
+    {
+      Node& nd = k.nodes[i];
+      const ContactResponse& c = ContactBuffer[i];
+      nd.contact = c.force;
+      nd.contactK = c.stiffness;
+      nd.contactD = c.damping;
+      nd.hasK = !c.stiffness.isZero(0);
+      nd.hasD = !c.damping.isZero(0);
+      if (!c.stiffness.allFinite() || !c.damping.allFinite())
+        return Status::Error(
+            "the contact stiffness or damping at s = " + std::to_string(Starts[nd.element] + nd.u) +
+            " m is not finite; check the contact hook.");
+    }
   }
   for (const Node& nd : k.nodes)
     if (!nd.wind.allFinite() || !nd.contact.allFinite())
       return Status::Error(std::string("the ") + (nd.wind.allFinite() ? "contact force" : "wind") +
                            " at s = " + std::to_string(Starts[nd.element] + nd.u) +
                            " m is not finite; check the wind field or contact hook.");
+  if (!Spec.tipForce.allFinite())
+    return Status::Error("the tip force is not finite.");
   return Status::Ok();
 }
 
@@ -446,8 +463,9 @@ void SuperHelix::assemble()
   // velocity-dependent terms, contacts.
   const double nu = Spec.hair.airFriction;
   const Eigen::Vector3d gravity = RhoS * Spec.gravity;
-  // Tail sums, from the tip: force, torque, mass, first and second moments.
-  Eigen::Vector3d tailF = Eigen::Vector3d::Zero(), tailT = Eigen::Vector3d::Zero();
+  // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
+  // acts beyond every element: J(L)ᵀP = A_eᵀ (r(L) × P) + W_eᵀ P for every e.
+  Eigen::Vector3d tailF = Spec.tipForce, tailT = k.tip.r0.cross(Spec.tipForce);
   Eigen::Vector3d tailC = Eigen::Vector3d::Zero();
   Eigen::Matrix3d tailTheta = Eigen::Matrix3d::Zero();
   double tailM = 0;
@@ -683,6 +701,42 @@ void SuperHelix::assembleVelocityJacobian()
   }
 }
 
+void SuperHelix::addContactJacobians(double h)
+{
+  // Backward Euler on the linearized contact force f − K h (v0 + J q̇ⁿ⁺¹) − D J (q̇ⁿ⁺¹ − q̇ⁿ):
+  //   Lhs += Σ w Jᵀ (h² K + h D) J,  Rhs += Σ w h Jᵀ (D J q̇ⁿ − h K v0).
+  // J of a sample in element e spans the columns of elements 0..e (O(e²) per sample in
+  // contact; samples out of contact cost nothing).
+  thread_local Eigen::Matrix3Xd J;
+  for (const Node& nd : Cur.nodes)
+  {
+    if (!nd.hasK && !nd.hasD)
+      continue;
+    const int e = nd.element;
+    const int cols = 3 * (e + 1);
+    J.resize(3, cols);
+    for (int p = 0; p < e; ++p)
+      for (int i = 0; i < 3; ++i)
+        J.col(3 * p + i) = Cur.elements[p].A.col(i).cross(nd.r) + Cur.elements[p].W.col(i);
+    J.middleCols<3>(3 * e) = nd.J;
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    if (nd.hasK)
+    {
+      S += h * h * nd.contactK;
+      b -= h * h * (nd.contactK * nd.v0);
+    }
+    if (nd.hasD)
+    {
+      S += h * nd.contactD;
+      b += h * (nd.contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
+    }
+    const Eigen::Matrix3Xd SJ = nd.w * (S * J);
+    Lhs.topLeftCorner(cols, cols).noalias() += J.transpose() * SJ;
+    Rhs.head(cols).noalias() += J.transpose() * (nd.w * b);
+  }
+}
+
 Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
 {
   // (M + hΓ + h²𝕂 + h D_air − h C) q̇ⁿ⁺¹ = M q̇ⁿ + h (f − 𝕂 (qⁿ − q_rest) − C q̇ⁿ),
@@ -694,6 +748,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   Rhs.noalias() = M * Qdot;
   Rhs.noalias() -= h * (C * Qdot);
   Rhs += h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
+  addContactJacobians(h);
   const int m = static_cast<int>(Lhs.rows());
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
@@ -804,6 +859,7 @@ Status SuperHelix::step(double dt)
     sum.rootWork += l.rootWork;
     sum.windWork += l.windWork;
     sum.contactWork += l.contactWork;
+    sum.loadWork += l.loadWork;
     sum.residual += l.residual;
   }
   Time = t0 + dt; // exact end time, whatever the sub-steps' round-off
@@ -882,6 +938,7 @@ Status SuperHelix::stepCount(double dt, int count)
     sum.rootWork += l.rootWork;
     sum.windWork += l.windWork;
     sum.contactWork += l.contactWork;
+    sum.loadWork += l.loadWork;
     sum.residual += l.residual;
   }
   Energy.lastStep = sum;
@@ -964,14 +1021,28 @@ Status SuperHelix::singleStep(double h)
         const Eigen::Vector3d rel = vt - nd.wind;
         flow.airDissipated += h * nd.w * nu * rel.squaredNorm();
         flow.windWork -= h * nd.w * nu * rel.dot(nd.wind);
-        flow.contactWork += h * nd.w * nd.contact.dot(vt);
-        const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + nd.contact;
+        // The contact force that acted: its implicit linearization (see ContactResponse).
+        Eigen::Vector3d fc = nd.contact;
+        if (nd.hasK)
+          fc -= h * (nd.contactK * vt);
+        if (nd.hasD)
+          fc -= nd.contactD * (vt - nd.v);
+        flow.contactWork += h * nd.w * fc.dot(vt);
+        const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
         flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
       }
       pa += el.A * x;
       pw += el.W * x;
       sa += el.A * y;
       sw += el.W * y;
+    }
+    if (!Spec.tipForce.isZero(0))
+    {
+      const Eigen::Vector3d& rt = Cur.tip.r0;
+      const Eigen::Vector3d v0t =
+          Cur.root.velocity + Cur.root.angularVelocity.cross(rt - Cur.root.position);
+      flow.loadWork += h * Spec.tipForce.dot(v0t + pa.cross(rt) + pw);
+      flow.rootWork -= h * Spec.tipForce.dot(v0t);
     }
     flow.frictionDissipated = h * (Gdiag.array() * qdN.array().square()).sum();
   }
@@ -982,7 +1053,7 @@ Status SuperHelix::singleStep(double h)
   const double e1 = Next.kinetic + elastic + Next.gravitational;
   if (!std::isfinite(e1))
     return Status::Error(where(t0, t1) + "the energy is not finite; the previous state is kept.");
-  flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork +
+  flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork - flow.loadWork +
                   flow.frictionDissipated + flow.airDissipated;
 
   // Commit.
@@ -1001,6 +1072,7 @@ Status SuperHelix::singleStep(double h)
   Energy.total.rootWork += flow.rootWork;
   Energy.total.windWork += flow.windWork;
   Energy.total.contactWork += flow.contactWork;
+  Energy.total.loadWork += flow.loadWork;
   Energy.total.residual += flow.residual;
   return Status::Ok();
 }

@@ -36,6 +36,9 @@ struct StrandSpec
   Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, unless windField
   AirVelocityField windField;                     ///< optional, overrides `wind`
   RootMotion root; ///< empty: fixed at RootState{} (root at the origin, tangent +x)
+  /// A dead load at the free end [N] (constant direction; e.g. the axial load of a
+  /// buckling study). Its work is EnergyTerms::loadWork.
+  Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();
 
   /// A strand of `elements` equal elements of total length `length`.
   static StrandSpec uniform(double length, int elements, const HairParameters& hair);
@@ -52,16 +55,30 @@ struct StrandSample
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
 };
 
-/// Contact hook: given the samples at the start of a (sub-)step, write a force per unit
-/// length [N/m] for each sample (the vector arrives sized and zeroed). Called once per
-/// sub-step (see SuperHelix::step) from the thread that steps this strand.
+/// The contact response at one sample, linearized about the sample's position x and
+/// velocity v at the start of the step: force per unit length f [N/m] and its derivatives
+/// K = −∂f/∂x [N/m²] and D = −∂f/∂v [N·s/m²]. The step treats K and D implicitly
+/// (backward Euler on the linearization), so a stiff penalty keeps dt = 1/30 s stable; the
+/// force that acts over the step, and whose work is reported, is
+///   f − K (x⁽ⁿ⁺¹⁾ − xⁿ) − D (v⁽ⁿ⁺¹⁾ − vⁿ),  x⁽ⁿ⁺¹⁾ − xⁿ ≈ h v⁽ⁿ⁺¹⁾.
+/// Leave K and D zero for an explicit force.
+struct ContactResponse
+{
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
+};
+
+/// Contact hook: given the samples at the start of a (sub-)step, write the response of each
+/// sample (the vector arrives sized and zeroed). Called once per sub-step (see
+/// SuperHelix::step) from the thread that steps this strand.
 using ContactForces =
     std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
-                       std::vector<Eigen::Vector3d>& forcePerLength)>;
+                       std::vector<ContactResponse>& response)>;
 
 /// Energies [J]. State energies are at `time`; the work terms are over the last step and
 /// accumulated since initialize(). The budget, which closes by construction of `residual`:
-///   Δ(kinetic + elastic + gravitational) = rootWork + windWork + contactWork
+///   Δ(kinetic + elastic + gravitational) = rootWork + windWork + contactWork + loadWork
 ///                                          − frictionDissipated − airDissipated + residual
 /// residual is what the time integrator itself adds (< 0: numerical dissipation).
 struct EnergyTerms
@@ -71,6 +88,7 @@ struct EnergyTerms
   double rootWork = 0;
   double windWork = 0;
   double contactWork = 0;
+  double loadWork = 0; ///< work of StrandSpec::tipForce
   double residual = 0;
 };
 
@@ -156,6 +174,8 @@ private:
     int element;
     double u, w;
     Eigen::Vector3d r, v, v0, a0, wind, contact;
+    Eigen::Matrix3d contactK, contactD; // −∂f/∂x, −∂f/∂v per unit length (when hasK/hasD)
+    bool hasK = false, hasD = false;
     Eigen::Vector3d jkd; // J k̇ of the own element (the point's velocity relative to its frame)
     Eigen::Matrix3d J;
     HelixCoefficients coefficients;
@@ -207,7 +227,8 @@ private:
   Eigen::VectorXd F, Rhs;
   std::vector<int> Pivots;                 // row interchanges of the unblocked LU of Lhs (small N)
   Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
-  std::vector<Eigen::Vector3d> ContactBuffer;
+  std::vector<ContactResponse> ContactBuffer;
+  void addContactJacobians(double h); // implicit contact terms into Lhs and Rhs
 };
 
 /// Steps every strand by dt on `threads` threads (std::thread; 1: the calling thread

@@ -112,17 +112,17 @@ TEST(SuperHelixInput, BlowUpStopsWithStrandAndTimeAndKeepsTheState)
   const Eigen::Vector3d tip = h.position(h.length());
   // A contact module that returns NaN.
   h.setContactForces([](int, double, const std::vector<StrandSample>&,
-                        std::vector<Eigen::Vector3d>& f) { f[2].x() = NaN; });
+                        std::vector<ContactResponse>& f) { f[2].force.x() = NaN; });
   Status st = h.step(1.0 / 30);
   EXPECT_FALSE(st.ok());
   EXPECT_TRUE(contains(st.message(), "guide-7") && contains(st.message(), "id 7")) << st.message();
   EXPECT_TRUE(contains(st.message(), "t = 0.1")) << st.message();
   // A force so large that the strand would bend tighter than its own radius.
   h.setContactForces(
-      [](int, double, const std::vector<StrandSample>& s, std::vector<Eigen::Vector3d>& f)
+      [](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& f)
       {
         for (size_t i = 0; i < s.size(); ++i)
-          f[i] = Eigen::Vector3d(0, 0, i % 2 ? 1e9 : -1e9);
+          f[i].force = Eigen::Vector3d(0, 0, i % 2 ? 1e9 : -1e9);
       });
   st = h.step(1.0 / 30);
   EXPECT_FALSE(st.ok());
@@ -150,13 +150,13 @@ TEST(SuperHelixInput, ContactHookReceivesSamplesAlongTheStrandAndItsForcesAct)
   size_t sampleCount = 0;
   double sumWeights = 0;
   h.setContactForces(
-      [&](int, double, const std::vector<StrandSample>& s, std::vector<Eigen::Vector3d>& f)
+      [&](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& f)
       {
         sampleCount = s.size();
         sumWeights = 0;
         for (size_t i = 0; i < s.size(); ++i)
         {
-          f[i] = -rhoS * Eigen::Vector3d(0, -9.81, 0);
+          f[i].force = -rhoS * Eigen::Vector3d(0, -9.81, 0);
           sumWeights += s[i].weight;
         }
       });
@@ -196,7 +196,7 @@ TEST(SuperHelixInput, TwoThreadsGiveTheSameStrandsAsOne)
     EXPECT_EQ((a[i].q() - b[i].q()).norm(), 0.0) << i; // same arithmetic, bit for bit
   // The first failing strand's error comes back.
   b[3].setContactForces([](int, double, const std::vector<StrandSample>&,
-                           std::vector<Eigen::Vector3d>& f) { f[0].y() = NaN; });
+                           std::vector<ContactResponse>& f) { f[0].force.y() = NaN; });
   const Status st = stepStrands(b, 1.0 / 30, 2);
   EXPECT_FALSE(st.ok());
   EXPECT_TRUE(contains(st.message(), "id 3")) << st.message();
