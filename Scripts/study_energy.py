@@ -139,7 +139,7 @@ def release(tool, outdir, quick):
         for k in rates:
             d = runs[k]
             for i in range(len(d["time_s"])):
-                f.write(f"{1 / k:.10g}," + ",".join(f"{d[c][i]:.12g}" for c in cols) + "\n")
+                f.write(f"{1 / k:.10g}," + ",".join(f"{d[c][i]:.17g}" for c in cols) + "\n")
     for k in rates:
         os.remove(os.path.join(outdir, f"release_{k}.csv"))
     rows = []
