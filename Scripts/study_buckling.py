@@ -39,8 +39,6 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from scipy.optimize import brentq  # noqa: E402
-from scipy.special import ellipk  # noqa: E402
 
 import studytool  # noqa: E402
 
@@ -53,6 +51,27 @@ PCR_TOLERANCE = 0.05  # issue 6: P_cr within 5 % of the formula at N = 10
 # CLUMP PART: added when hair-hair contacts land. The second half of study 3 (a wisp of
 # strands under oscillation, clumping through hair-hair contact) needs the hair-hair
 # contacts being built now; it will be a second function here, writing study_clump.*.
+
+
+def ellipk(m):
+    """Complete elliptic integral of the first kind K(m) = pi / (2 AGM(1, sqrt(1 - m)))."""
+    a, b = 1.0, np.sqrt(1.0 - m)
+    while abs(a - b) > 1e-15 * a:
+        a, b = (a + b) / 2, np.sqrt(a * b)
+    return np.pi / (2 * a)
+
+
+def brentq(f, lo, hi):
+    """Root of f in [lo, hi] by bisection (f changes sign there), to 1e-15."""
+    flo = f(lo)
+    while hi - lo > 1e-15:
+        mid = (lo + hi) / 2
+        fm = f(mid)
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return (lo + hi) / 2
 
 
 def elastica(ratio):

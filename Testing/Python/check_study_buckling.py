@@ -26,8 +26,6 @@ import sys
 import tempfile
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import ellipk
 
 from studycheck import check, finish, png_ok, ROOT, tool_from_argv
 
@@ -57,6 +55,27 @@ def beam_column(r):
 def southwell(r, p, delta):
     w = (r >= 0.5 - 1e-9) & (r <= 0.95 + 1e-9)
     return 1 / np.polyfit(delta[w], delta[w] / p[w], 1)[0]
+
+
+def ellipk(m):
+    """Complete elliptic integral of the first kind K(m) = pi / (2 AGM(1, sqrt(1 - m)))."""
+    a, b = 1.0, np.sqrt(1.0 - m)
+    while abs(a - b) > 1e-15 * a:
+        a, b = (a + b) / 2, np.sqrt(a * b)
+    return np.pi / (2 * a)
+
+
+def brentq(f, lo, hi):
+    """Root of f in [lo, hi] by bisection (f changes sign there), to 1e-15."""
+    flo = f(lo)
+    while hi - lo > 1e-15:
+        mid = (lo + hi) / 2
+        fm = f(mid)
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return (lo + hi) / 2
 
 
 def elastica(r):
