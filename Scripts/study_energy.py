@@ -20,8 +20,9 @@ max_t |residual| / max_t |work done on the hair|.
 (b) The demo scene: the state files that `bash Scripts/demo.sh` writes (Output/super-helix.h5
     and Output/projective.h5; layout in docs/state-file.md, read with h5py), or the files
     given with --state. If they are absent the script says how to make them and uses a small
-    scene instead, made by `hair_study scene` (6 wavy Super-Helix strands on a shaking head
-    with wind, no body, 1 s, at dt = 1/30 and 1/120 s); --quick always uses that one.
+    scene instead, made by `hair_study scene` (6 wavy strands on a shaking head with wind, no
+    body, 1 s: Super-Helix at dt = 1/30 and 1/120 s, and projective with 40 segments, whose
+    explicit steps are at most 1 ms); --quick always uses that one.
 
 Writes to the output dir: study_energy_release.csv (every dt, every step),
 study_energy_release.png (stacked budget at dt = 1/30 s and at a fine dt; residual over time;
@@ -56,11 +57,13 @@ def budget(e):
     if "friction_dissipated" in e:
         stack.append(("dissipated by internal friction", e["friction_dissipated"]))
         stack.append(("dissipated by air drag", e["air_dissipated"]))
-    else:  # the projective model reports its dissipation as one term
-        stack.append(("dissipated (friction and drag)", e["dissipated"]))
+    else:  # the projective model: angular damping only; its air drag is in wind_work
+        stack.append(("dissipated by angular damping", e["dissipated"]))
+    projective = "friction_dissipated" not in e
     works = [("gravity's work −(gravitational − start)", -(e["gravitational"] - e["gravitational"][0]))]
     for key, label in (("root_work", "root"), ("body_work", "root (body motion)"),
-                       ("wind_work", "wind"), ("contact_work", "contact"),
+                       ("wind_work", "air drag (net, wind included)" if projective else "wind"),
+                       ("contact_work", "contact"),
                        ("load_work", "tip load")):
         if key in e and np.any(e[key] != 0):
             works.append((f"{label} work", e[key]))
@@ -227,10 +230,12 @@ def scene(tool, outdir, quick, states):
             print("study_energy: " + notes[-1], file=sys.stderr)
     labelled = [(p, os.path.basename(p)) for p in states]
     if not labelled:
-        for k in (30, 120):
-            path = os.path.join(outdir, f"study_energy_scene_{k}.h5")
-            studytool.run(tool, "scene", out=path, strands=6, n=10, duration=1, dt=f"1/{k}")
-            labelled.append((path, f"small scene (hair_study scene), dt = 1/{k} s"))
+        for model, n, k in (("super-helix", 10, 30), ("super-helix", 10, 120), ("projective", 40, 30)):
+            path = os.path.join(outdir, f"study_energy_scene_{model}_{k}.h5")
+            studytool.run(tool, "scene", out=path, strands=6, n=n, duration=1, dt=f"1/{k}",
+                          model=model)
+            step = f"dt = 1/{k} s" if model == "super-helix" else "steps of 1 ms"
+            labelled.append((path, f"small scene (hair_study scene), {step}"))
     results = []
     for path, label in labelled:
         t, e, model, strands = read_state(path)
