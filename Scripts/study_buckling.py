@@ -16,15 +16,15 @@ equilibrium, and steps much longer than the rod's period (0.8 s) reach it like a
 iteration (quasi-static continuation).
 
 Estimator of the critical load (Southwell, 1932; e.g. Timoshenko & Gere, Theory of Elastic
-Stability, 2nd ed., 1961, section 2.17): below P_cr the lateral tip deflection of an imperfect
+Stability, 2nd ed., 1961, ch. 2): below P_cr the lateral tip deflection of an imperfect
 column is delta ~ a P / (1 - P/P_cr) (the first mode dominates; the imperfection's effect
 here grows with P), so delta/P = a + delta/P_cr: the least-squares slope of delta/P against
 delta over P = 0.5 ... 0.95 P_cr is 1/P_cr. Measured for every N, compared with the formula.
 
 References drawn on the plot:
-  - linear beam-column under axial P and transverse Q = 1e-4 P (Timoshenko & Gere, section 1.11):
+  - linear beam-column under axial P and transverse Q = 1e-4 P (Timoshenko & Gere ch. 1):
     delta = 1e-4 (tan(kL)/k - L), k = sqrt(P/EI), below P_cr;
-  - the elastica of the perfect column above P_cr (Timoshenko & Gere section 2.7):
+  - the elastica of the perfect column above P_cr (Timoshenko & Gere ch. 2):
     P/P_cr = (2 K(m)/pi)^2, delta/L = 2 sqrt(m) / K(m), with K the complete elliptic integral
     of the first kind, m = sin^2(theta_tip/2).
 
