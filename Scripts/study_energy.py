@@ -115,8 +115,10 @@ def stacked(ax, t, stack, works, work, title, legend="lower right"):
     ax.plot(t, work, "k-", lw=2, label="work done on the hair" + (
         f" = {works[0][0]}" if len(works) == 1 else ", the sum of:"))
     if len(works) > 1:
-        for (label, w), ls in zip(works, ["--", ":", "-.", (0, (1, 3)), (0, (5, 1))]):
-            ax.plot(t, w, color="0.35", ls=ls, lw=1, label=f"  {label}")
+        for (label, w), ls, c in zip(works, ["--", ":", "-.", "--", ":", "-."],
+                                     ["0.35", "tab:brown", "tab:cyan", "tab:red", "tab:olive",
+                                      "tab:pink"]):
+            ax.plot(t, w, color=c, ls=ls, lw=1.2, label=f"  {label}")
     ax.axhline(0, color="0.6", lw=0.6)
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"energy ({name})")
