@@ -26,7 +26,7 @@ with open(check, "w") as f:
 from paraview import servermanager
 pxm = servermanager.ProxyManager()
 found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filters", "HairStrands"),
-         ("filters", "HairSimulation"), ("sources", "HairStateReader"))
+         ("filters", "HairSimulation"), ("filters", "HairAnalysis"), ("sources", "HairStateReader"))
          if pxm.GetPrototypeProxy(group, name) is not None]
 open({marker!r}, "w").write(" ".join(found))
 """)
@@ -55,7 +55,8 @@ try:
     while time.time() < deadline and not os.path.exists(marker):
         time.sleep(1)
     found = open(marker).read().split() if os.path.exists(marker) else []
-    for name in ("CylindricalCollisionMap", "HairStrands", "HairSimulation", "HairStateReader"):
+    for name in ("CylindricalCollisionMap", "HairStrands", "HairSimulation", "HairAnalysis",
+                 "HairStateReader"):
         if name not in found:
             failures.append(f"proxy {name} is not registered in the GUI")
     # Filters > Hair: open the Filters menu, then hover its Hair entry (positions of this
