@@ -73,7 +73,10 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
 {
   const BodyContactParameters& p = Parameters;
   depth = 0;
-  const TableQuery q = body.part->query(x);
+  // BodyPart::query with the body's own pose: the table's query of R^T (x − t), normal
+  // back to world coordinates.
+  const TableQuery q =
+      body.table->query(body.pose.linear().transpose() * (x - body.pose.translation()));
   if (!q.covered)
   {
     return false;
@@ -82,7 +85,7 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   // the interpolated normal disagrees with the inside test near an edge of the table).
   depth = q.inside ? std::max(q.depth, 0.0) : std::min(q.depth, 0.0);
   const double d = depth + p.thickness; // penetration of the clump's outer layer
-  const Eigen::Vector3d& n = q.normal;
+  const Eigen::Vector3d n = body.pose.linear() * q.normal;
   const Eigen::Vector3d u = v - (body.velocity + body.angularVelocity.cross(x)); // relative
   const double un = n.dot(u);
   // In contact: inside the layer, or outside but reaching it within the look-ahead time at

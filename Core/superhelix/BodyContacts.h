@@ -51,12 +51,22 @@ struct BodyContactParameters
 
 /// A body part at one instant: its table, its pose (part at rest → now) and its rigid
 /// velocity field v(x) = velocity + angularVelocity × x (world coordinates, x about the
-/// world origin), so friction acts on the velocity relative to a moving head.
+/// world origin), so friction acts on the velocity relative to a moving head. Holds the
+/// pose itself (not a BodyPart) so that threads at different times share one table.
 struct ContactBody
 {
-  const BodyPart* part = nullptr; ///< table and pose; must outlive the call
+  const CollisionTable* table = nullptr; ///< must outlive the call
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
+
+  static ContactBody still(const BodyPart& part)
+  {
+    ContactBody b;
+    b.table = &part.table;
+    b.pose = part.pose;
+    return b;
+  }
 };
 
 /// What one call found (for statistics; optional).

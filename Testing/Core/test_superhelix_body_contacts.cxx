@@ -109,8 +109,7 @@ TEST(BodyContacts, ResponseIsTheDerivativeOfTheForce)
   prm.friction = 0;
   BodyContacts c;
   ASSERT_TRUE(c.setParameters(prm).ok());
-  ContactBody body;
-  body.part = &part;
+  const ContactBody body = ContactBody::still(part);
   const Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
   const Eigen::Vector3d v(0.01, -0.02, 0.005), t = Eigen::Vector3d::UnitX();
   const double rhoS = 1e-5;
@@ -173,7 +172,7 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   };
   SuperHelix h;
   EXPECT_TRUE(h.initialize(s).ok());
-  attach(h, contacts, {ContactBody{&part}});
+  attach(h, contacts, {ContactBody::still(part)});
   for (int i = 0; i < std::lround(seconds / Dt); ++i)
   {
     const Status st = h.step(Dt);
@@ -315,7 +314,7 @@ CapstanResult capstan(double mu, double anisotropy, double speed, int window, in
   // The wrapped shape: the tip hangs at x = R below the drum.
   EXPECT_LT((h.position(h.length()) - Eigen::Vector3d(R, 0, -NRight * l)).norm(), 1e-9)
       << h.position(h.length()).transpose();
-  attach(h, contacts, {ContactBody{&part}});
+  attach(h, contacts, {ContactBody::still(part)});
 
   CapstanResult r;
   const int settle = std::lround((StartPull + 2) / Dt);
@@ -484,4 +483,105 @@ TEST(SuperHelixBodyContacts, SlidingTipFirstIsResistedMoreThanRootFirst)
   // μ ≈ 0.24 and 0.36: 0.006/0.24 + 0.006/0.36 ≈ 4 %.
   EXPECT_NEAR(muTipFirst / muRootFirst, (1 + a) / (1 - a), 0.04 * (1 + a) / (1 - a));
   EXPECT_LT(std::abs(up.residual), 0.02 * std::abs(up.contactWork));
+}
+
+// ---- In the scene driver (Core/simulation/Simulation) ---------------------------------
+
+#include "simulation/Simulation.h"
+
+namespace
+{
+/// A sphere of radius 8 cm under a horizontal guide clamped 4 mm above its top, as a scene.
+Status sphereScene(const SimulationOptions& o, Simulation& sim, double& R)
+{
+  R = 0.08;
+  static const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.08));
+  SimulationPart part;
+  part.part.name = "sphere";
+  TableSpec spec;
+  spec.projection = Projection::Spherical;
+  if (Status s = part.part.table.build(spec, sphere); !s)
+    return s;
+  GuideStrand g;
+  g.root = Eigen::Vector3d(0, R + 0.004, 0);
+  g.growth = Eigen::Vector3d::UnitX();
+  g.length = 0.2;
+  g.elements = 10;
+  g.hair = roundHair();
+  return sim.initialize({g}, {part}, o);
+}
+} // namespace
+
+TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
+{
+  // The guide of the sphere test, through the scene driver: with contacts it rests outside
+  // (contact_depth, the depth into the table, is 0 everywhere), without them it falls
+  // through the sphere.
+  for (bool enabled : {true, false})
+  {
+    SimulationOptions o;
+    o.contacts.enabled = enabled;
+    Simulation sim;
+    double R = 0;
+    const Status st = sphereScene(o, sim, R);
+    ASSERT_TRUE(st.ok()) << st.message();
+    ASSERT_TRUE(sim.advanceTo(91).ok());
+    const StateFrame& f = sim.frame(90);
+    double deepest = 0;
+    for (double d : f.pointData.at("contact_depth"))
+      deepest = std::max(deepest, d);
+    std::printf("contacts %s: %ld points inside, deepest %.3g m\n", enabled ? "on" : "off",
+                sim.contacts().back(), deepest);
+    if (enabled)
+    {
+      EXPECT_EQ(sim.contacts().back(), 0);
+      EXPECT_EQ(deepest, 0.0);
+      EXPECT_NE(f.energy.at("contact_work"), 0.0);
+      EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.contacts.stiffness);
+    }
+    else
+    {
+      // Without contacts the guide, clamped 4 mm above the top, falls into the sphere: its
+      // far part hangs from the clamp inside (measured: 4 cm deep).
+      EXPECT_GT(sim.contacts().back(), 0);
+      EXPECT_GT(deepest, 0.01);
+    }
+  }
+}
+
+TEST(SimulationBodyContacts, BadContactParametersAreRefused)
+{
+  SimulationOptions o;
+  o.contacts.friction = -1;
+  Simulation sim;
+  double R = 0;
+  const Status st = sphereScene(o, sim, R);
+  EXPECT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("friction coefficient"), std::string::npos) << st.message();
+}
+
+TEST(SimulationBodyContacts, AdditionalContactsAddOnTopOfTheBodys)
+{
+  // The seam for hair–hair contacts: a hook that adds ρS g upwards on every sample cancels
+  // gravity, so the horizontal guide above the sphere stays where it is, straight; without
+  // the hook it falls onto the sphere (previous test).
+  SimulationOptions o;
+  Simulation sim;
+  const double rhoS = roundHair().linearDensity();
+  int calls = 0;
+  sim.setAdditionalContacts(
+      [&](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)
+      {
+        ++calls; // one strand, one thread: no race
+        for (std::size_t i = 0; i < s.size(); ++i)
+          r[i].force += Eigen::Vector3d(0, rhoS * 9.81, 0);
+      });
+  double R = 0;
+  const Status st = sphereScene(o, sim, R);
+  ASSERT_TRUE(st.ok()) << st.message();
+  ASSERT_TRUE(sim.advanceTo(31).ok());
+  EXPECT_GE(calls, 30);
+  const StateFrame& f = sim.frame(30);
+  for (const Eigen::Vector3d& p : f.positions)
+    EXPECT_NEAR(p.y(), R + 0.004, 1e-9);
 }
