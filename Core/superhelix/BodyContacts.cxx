@@ -109,7 +109,11 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   }
   // Normal force per unit length: penalty and damping, never pulling (λ >= 0: a sample
   // leaving fast is let go).
-  const double lambda = k * d - c * un;
+  // The surface moves too: over a step h it advances by h (v_b·n) into the strand, so the
+  // penetration at the end of the step is d − n·(Δx − h v_b); K carries the −n·Δx part,
+  // the force the rest.
+  const Eigen::Vector3d vb = body.velocity + body.angularVelocity.cross(x);
+  const double lambda = k * (d + p.lookAhead * n.dot(vb)) - c * un;
   if (lambda <= 0)
   {
     return false;
