@@ -73,6 +73,10 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
 {
   const BodyContactParameters& p = Parameters;
   depth = 0;
+  if (!body.table)
+  {
+    return false;
+  }
   // BodyPart::query with the body's own pose: the table's query of R^T (x − t), normal
   // back to world coordinates.
   const TableQuery q =
@@ -86,7 +90,8 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   depth = q.inside ? std::max(q.depth, 0.0) : std::min(q.depth, 0.0);
   const double d = depth + p.thickness; // penetration of the clump's outer layer
   const Eigen::Vector3d n = body.pose.linear() * q.normal;
-  const Eigen::Vector3d u = v - (body.velocity + body.angularVelocity.cross(x)); // relative
+  const Eigen::Vector3d vb = body.velocity + body.angularVelocity.cross(x); // the surface's
+  const Eigen::Vector3d u = v - vb;                                         // relative
   const double un = n.dot(u);
   // In contact: inside the layer, or outside but reaching it within the look-ahead time at
   // the current approach speed (d − h u_n > 0, u_n < 0).
@@ -108,11 +113,9 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
     return true;
   }
   // Normal force per unit length: penalty and damping, never pulling (λ >= 0: a sample
-  // leaving fast is let go).
-  // The surface moves too: over a step h it advances by h (v_b·n) into the strand, so the
-  // penetration at the end of the step is d − n·(Δx − h v_b); K carries the −n·Δx part,
-  // the force the rest.
-  const Eigen::Vector3d vb = body.velocity + body.angularVelocity.cross(x);
+  // leaving fast is let go). The surface moves too: over a step h it advances by h (v_b·n) into the
+  // strand, so the penetration at the end of the step is d − n·(Δx − h v_b); K carries the −n·Δx
+  // part, the force the rest.
   const double lambda = k * (d + p.lookAhead * n.dot(vb)) - c * un;
   if (lambda <= 0)
   {

@@ -140,6 +140,41 @@ TEST(BodyContacts, ResponseIsTheDerivativeOfTheForce)
   EXPECT_LT(((rf.damping - r.damping) * ut + ft).norm(), 1e-12 * lambda);
 }
 
+TEST(BodyContacts, FrictionActsOnTheVelocityRelativeToTheMovingBody)
+{
+  // Galilean invariance: a sample moving with a translating or rotating body feels no
+  // friction, and adding the same velocity to the sample and the body changes nothing
+  // (the look-ahead term k h n·v_b aside, which is set to zero here).
+  const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
+  BodyPart part;
+  TableSpec spec;
+  spec.projection = Projection::Spherical;
+  ASSERT_TRUE(part.table.build(spec, sphere).ok());
+  BodyContactParameters prm;
+  prm.lookAhead = 0;
+  BodyContacts c;
+  ASSERT_TRUE(c.setParameters(prm).ok());
+  const Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
+  const Eigen::Vector3d t = Eigen::Vector3d::UnitX(), w(0.3, -2.0, 0.5), v0(0.1, 0.05, -0.2);
+  ContactBody body = ContactBody::still(part);
+  body.velocity = v0;
+  body.angularVelocity = w;
+  const Eigen::Vector3d vb = v0 + w.cross(x);
+  ContactResponse still, moving;
+  double depth = 0;
+  ASSERT_TRUE(c.respondOne(x, vb, t, 1e-5, body, moving, depth));
+  ASSERT_TRUE(
+      c.respondOne(x, Eigen::Vector3d::Zero(), t, 1e-5, ContactBody::still(part), still, depth));
+  EXPECT_LT((moving.force - still.force).norm(), 1e-12 * still.force.norm());
+  // Sliding at 5 cm/s relative to the moving body and to the still one: the same response.
+  const Eigen::Vector3d slip = Eigen::Vector3d(0.05, 0, 0);
+  ContactResponse a, b;
+  ASSERT_TRUE(c.respondOne(x, vb + slip, t, 1e-5, body, a, depth));
+  ASSERT_TRUE(c.respondOne(x, slip, t, 1e-5, ContactBody::still(part), b, depth));
+  EXPECT_LT((a.force - b.force).norm(), 1e-12 * b.force.norm());
+  EXPECT_LT((a.damping - b.damping).norm(), 1e-12 * b.damping.norm());
+}
+
 namespace
 {
 struct DropResult
