@@ -60,6 +60,10 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "BodyMotion: " << this->BodyMotion << " amplitude " << this->MotionAmplitude
      << " frequency " << this->MotionFrequency << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
+     << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
+     << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
+     << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
+     << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n";
 }
 
@@ -237,6 +241,13 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     o.motion.frequency = this->MotionFrequency;
     o.motion.axis = Eigen::Vector3d(this->MotionAxis);
     o.motion.pivot = Eigen::Vector3d(this->MotionPivot);
+    o.contacts.enabled = this->Contacts;
+    o.contacts.stiffness = this->ContactStiffness;
+    o.contacts.dampingRatio = this->ContactDamping;
+    o.contacts.friction = this->FrictionCoefficient;
+    o.contacts.anisotropy = this->FrictionAnisotropy;
+    o.contacts.thickness = this->ContactThickness;
+    o.contacts.slipVelocity = this->SlipVelocity;
     if (hair::Status s = in.Sim.initialize(guides, parts, o); !s)
     {
       vtkErrorMacro(<< "Hair Simulation: " << s.message());

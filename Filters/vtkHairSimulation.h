@@ -68,6 +68,23 @@ public:
   vtkGetVector3Macro(MotionPivot, double);
   vtkSetClampMacro(NumberOfThreads, int, 1, 256);
   vtkGetMacro(NumberOfThreads, int);
+  /// Super-Helix hair–body contacts (docs/superhelix-contacts.md). Not clamped here:
+  /// hair::BodyContactParameters::validate refuses bad values with a message.
+  vtkSetMacro(Contacts, bool);
+  vtkGetMacro(Contacts, bool);
+  vtkBooleanMacro(Contacts, bool);
+  vtkSetMacro(ContactStiffness, double);
+  vtkGetMacro(ContactStiffness, double);
+  vtkSetMacro(ContactDamping, double);
+  vtkGetMacro(ContactDamping, double);
+  vtkSetMacro(FrictionCoefficient, double);
+  vtkGetMacro(FrictionCoefficient, double);
+  vtkSetMacro(FrictionAnisotropy, double);
+  vtkGetMacro(FrictionAnisotropy, double);
+  vtkSetMacro(ContactThickness, double);
+  vtkGetMacro(ContactThickness, double);
+  vtkSetMacro(SlipVelocity, double);
+  vtkGetMacro(SlipVelocity, double);
   /// Where every frame is written (HDF5, docs/state-file.md); empty: not written.
   vtkSetStdStringFromCharMacro(StateFileName);
   vtkGetCharFromStdStringMacro(StateFileName);
@@ -96,6 +113,13 @@ protected:
   double MotionAxis[3] = {0, 1, 0};
   double MotionPivot[3] = {0, 1.45, 0.02};
   int NumberOfThreads = 2;
+  bool Contacts = true;
+  double ContactStiffness = 10;     ///< N/m²
+  double ContactDamping = 1;        ///< fraction of critical
+  double FrictionCoefficient = 0.3; ///< μ
+  double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
+  double ContactThickness = 1e-3;   ///< m
+  double SlipVelocity = 1e-3;       ///< m/s
   std::string StateFileName;
 
 private:

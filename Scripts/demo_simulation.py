@@ -50,7 +50,8 @@ for model, elements in (("Projective", 40), ("Super-Helix", 10)):
     sim.UpdatePipeline(DURATION)
     runs[model] = dict(sim=sim, state=state, seconds=time.time() - start)
 
-# --- Pictures of the projective run (the model with hair-body contact today) ----------
+# --- Pictures of the projective run (both models have hair–body contact; see --------
+# docs/superhelix-contacts.md for the Super-Helix run's penetration statistics) ------
 view = bundled.white_view([0.75, 1.75, -0.75], [0.0, 1.45, 0.0], size=[500, 600])
 skin = Show(body, view)
 skin.DiffuseColor = [0.87, 0.76, 0.68]

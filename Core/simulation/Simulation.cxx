@@ -114,6 +114,10 @@ Status SimulationOptions::validate() const
   {
     return Status::Error("at least one thread is needed.");
   }
+  if (Status s = contacts.validate(); !s)
+  {
+    return Status::Error("hair–body contacts: " + s.message());
+  }
   return motion.validate();
 }
 
@@ -131,6 +135,42 @@ struct Simulation::Impl
   std::vector<double> Depth;
   std::vector<std::vector<Eigen::Vector3d>> Previous; // projective: nodes one step before
   Status Failed; ///< set when a step failed: the strands may then be at different times
+  BodyContacts Body;
+  ContactForces Additional; ///< the seam for other contacts (setAdditionalContacts)
+
+  /// The parts at time t, as the contact response needs them (pose and rigid velocity).
+  void bodiesAt(double t, std::vector<ContactBody>& out) const
+  {
+    out.resize(Parts.size());
+    const Eigen::Isometry3d head = Options.motion.pose(t);
+    Eigen::Vector3d v0, w, a0, al;
+    Options.motion.rates(t, v0, w, a0, al);
+    for (std::size_t k = 0; k < Parts.size(); ++k)
+    {
+      ContactBody& b = out[k];
+      b.table = &Parts[k].part.table;
+      const bool moves = Parts[k].movesWithHead;
+      b.pose = moves ? head : Eigen::Isometry3d::Identity();
+      b.velocity = moves ? v0 : Eigen::Vector3d::Zero();
+      b.angularVelocity = moves ? w : Eigen::Vector3d::Zero();
+    }
+  }
+  /// The contact hook of every Super-Helix strand: the body's response, then the seam's.
+  void contactResponse(int strand, double t, const std::vector<StrandSample>& samples,
+                       std::vector<ContactResponse>& response) const
+  {
+    if (Options.contacts.enabled && !Parts.empty())
+    {
+      thread_local std::vector<ContactBody> bodies; // no allocation after the first call
+      bodiesAt(t, bodies);
+      Body.respond(samples, Helices[strand].spec().hair.linearDensity(), bodies.data(),
+                   static_cast<int>(bodies.size()), response);
+    }
+    if (Additional)
+    {
+      Additional(strand, t, samples, response);
+    }
+  }
 
   double time() const
   {
@@ -302,6 +342,11 @@ const std::vector<double>& Simulation::maxDepth() const
 {
   return P->Depth;
 }
+void Simulation::setAdditionalContacts(ContactForces hook)
+{
+  P->Additional = std::move(hook);
+  // A running simulation's strands already have their hook; it reads Additional then.
+}
 
 Status Simulation::initialize(const std::vector<GuideStrand>& strands,
                               const std::vector<SimulationPart>& parts,
@@ -352,8 +397,14 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
     }
   }
   r->Options = options;
+  r->Options.contacts.lookAhead = options.timeStep;
   r->Guides = strands;
   r->Parts = parts;
+  r->Additional = P->Additional;
+  if (Status s = r->Body.setParameters(r->Options.contacts); !s)
+  {
+    return Status::Error("hair–body contacts: " + s.message());
+  }
   const int n = strands[0].elements;
 
   if (options.model == StrandModel::SuperHelix)
@@ -389,6 +440,12 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
       {
         return s;
       }
+      // Impl lives on the heap and owns the strands: the pointer outlives the hook.
+      const Impl* impl = r.get();
+      r->Helices[k].setContactForces(
+          [impl](int strand, double t, const std::vector<StrandSample>& samples,
+                 std::vector<ContactResponse>& response)
+          { impl->contactResponse(strand, t, samples, response); });
     }
     r->Header.model = "super-helix";
     r->Header.coordinatesPerStrand = 3 * n;
@@ -493,6 +550,17 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
   at["motion_kind"] = static_cast<int>(options.motion.kind);
   at["motion_amplitude"] = options.motion.amplitude;
   at["motion_frequency"] = options.motion.frequency;
+  if (options.model == StrandModel::SuperHelix)
+  {
+    const BodyContactParameters& c = options.contacts;
+    at["contacts"] = c.enabled ? 1 : 0;
+    at["contact_stiffness"] = c.stiffness;
+    at["contact_damping_ratio"] = c.dampingRatio;
+    at["friction_coefficient"] = c.friction;
+    at["friction_anisotropy"] = c.anisotropy;
+    at["contact_thickness"] = c.thickness;
+    at["slip_velocity"] = c.slipVelocity;
+  }
   r->record();
   P = std::move(r);
   return Status::Ok();

@@ -7,6 +7,7 @@
 #include "common/Progress.h"
 #include "common/Status.h"
 #include "io/StateFile.h"
+#include "superhelix/BodyContacts.h"
 #include "superhelix/HairParameters.h"
 
 #include <Eigen/Core>
@@ -80,6 +81,10 @@ struct SimulationOptions
   HeadMotion motion;
   int threads = 1;
   int pointsPerElement = 4; ///< Super-Helix: display points per element
+  /// Super-Helix: hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
+  /// `lookAhead` is set to the time step by the simulation. The projective model keeps its
+  /// own reaction constraint (docs/projective-strands.md) and ignores these.
+  BodyContactParameters contacts;
   Status validate() const;
 };
 
@@ -111,6 +116,15 @@ public:
   /// Per frame: nodes inside a body part after the step, and the deepest of them (m).
   const std::vector<long>& contacts() const;
   const std::vector<double>& maxDepth() const;
+
+  /// The seam for other contact responses (e.g. hair–hair): a hook called for every
+  /// Super-Helix strand at every (sub-)step right after the body's response, with the same
+  /// samples and the same response buffer, to which it ADDS its own force, stiffness and
+  /// damping (never overwrite: the body's response is already there). It runs on the thread
+  /// that steps the strand, so it must be safe to call from several threads at once for
+  /// different strands. Set it before initialize() (it is kept across initializations);
+  /// an empty hook removes it.
+  void setAdditionalContacts(ContactForces hook);
 
 private:
   struct Impl;

@@ -1,0 +1,185 @@
+#include "superhelix/BodyContacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace hair
+{
+
+Status BodyContactParameters::validate() const
+{
+  auto bad = [](const char* name, double value, const char* want)
+  {
+    std::ostringstream s;
+    s << "the contact " << name << " is " << value << "; " << want << ".";
+    return Status::Error(s.str());
+  };
+  if (!std::isfinite(stiffness) || !(stiffness > 0))
+  {
+    return bad("stiffness", stiffness,
+               "give a positive finite value in N/m² (default 10: a resting strand sinks "
+               "by ρS g / k ≈ 5–10 µm)");
+  }
+  if (!std::isfinite(dampingRatio) || dampingRatio < 0)
+  {
+    return bad("damping ratio", dampingRatio,
+               "give a finite value >= 0 (a fraction of the critical damping; default 1)");
+  }
+  if (!std::isfinite(friction) || friction < 0)
+  {
+    return bad("friction coefficient", friction,
+               "give a finite value >= 0 (0: frictionless; hair on skin or hair is a few "
+               "tenths, default 0.3)");
+  }
+  if (!std::isfinite(anisotropy) || anisotropy < 0 || anisotropy >= 1)
+  {
+    return bad("friction anisotropy", anisotropy,
+               "give a value in [0, 1): the friction against the scales is μ (1 + a), with "
+               "them μ (1 − a) (default 0.2)");
+  }
+  if (!std::isfinite(thickness) || thickness < 0)
+  {
+    return bad("thickness", thickness,
+               "give a distance >= 0 in metres (default 1e-3: a guide stands for a clump)");
+  }
+  if (!std::isfinite(lookAhead) || lookAhead < 0)
+  {
+    return bad("look-ahead time", lookAhead,
+               "give a time >= 0 in seconds, normally the simulation's time step");
+  }
+  if (!std::isfinite(slipVelocity) || !(slipVelocity > 0))
+  {
+    return bad("slip velocity", slipVelocity,
+               "give a positive speed in m/s (the regularization of Coulomb friction; "
+               "default 1e-3)");
+  }
+  return Status::Ok();
+}
+
+Status BodyContacts::setParameters(const BodyContactParameters& parameters)
+{
+  if (Status s = parameters.validate(); !s)
+  {
+    return s;
+  }
+  Parameters = parameters;
+  return Status::Ok();
+}
+
+bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+                              const Eigen::Vector3d& t, double linearDensity,
+                              const ContactBody& body, ContactResponse& out, double& depth) const
+{
+  const BodyContactParameters& p = Parameters;
+  depth = 0;
+  if (!body.table)
+  {
+    return false;
+  }
+  // BodyPart::query with the body's own pose: the table's query of R^T (x − t), normal
+  // back to world coordinates.
+  const TableQuery q =
+      body.table->query(body.pose.linear().transpose() * (x - body.pose.translation()));
+  if (!q.covered)
+  {
+    return false;
+  }
+  // The table's inside test is authoritative; the depth along N follows it in sign (where
+  // the interpolated normal disagrees with the inside test near an edge of the table).
+  depth = q.inside ? std::max(q.depth, 0.0) : std::min(q.depth, 0.0);
+  const double d = depth + p.thickness; // penetration of the clump's outer layer
+  const Eigen::Vector3d n = body.pose.linear() * q.normal;
+  const Eigen::Vector3d vb = body.velocity + body.angularVelocity.cross(x); // the surface's
+  const Eigen::Vector3d u = v - vb;                                         // relative
+  const double un = n.dot(u);
+  // In contact: inside the layer, or outside but reaching it within the look-ahead time at
+  // the current approach speed (d − h u_n > 0, u_n < 0).
+  if (d <= 0 && !(un < 0 && d - p.lookAhead * un > 0))
+  {
+    return false;
+  }
+  const double k = p.stiffness;
+  const double c = 2 * p.dampingRatio * std::sqrt(k * linearDensity);
+  const Eigen::Matrix3d nn = n * n.transpose();
+  if (d <= 0)
+  {
+    // Still outside, arriving within the look-ahead: only the normal damping, −c u_n n,
+    // implicit, which stops the approach over the step (c h / ρS = 2 ζ h √(k/ρS) ≫ 1). No
+    // spring: a spring here would pull the sample in from wherever it is when the step is
+    // shorter than the look-ahead (sub-steps), and no friction (no load yet).
+    out.force -= (c * un) * n;
+    out.damping += c * nn;
+    return true;
+  }
+  // Normal force per unit length: penalty and damping, never pulling (λ >= 0: a sample
+  // leaving fast is let go). The surface moves too: over a step h it advances by h (v_b·n) into the
+  // strand, so the penetration at the end of the step is d − n·(Δx − h v_b); K carries the −n·Δx
+  // part, the force the rest.
+  const double lambda = k * (d + p.lookAhead * n.dot(vb)) - c * un;
+  if (lambda <= 0)
+  {
+    return false;
+  }
+  out.force += lambda * n;
+  out.stiffness += k * nn;
+  out.damping += c * nn;
+
+  // Friction: regularized Coulomb, f_t = −μ (1 + a t·u_t / s) λ u_t / s, s = √(|u_t|² + ε²).
+  // Its linearization is the secant η P (η = μ_eff λ / s, P = I − n nᵀ): with it, the force
+  // over the step is −η u_tⁿ⁺¹, which opposes the new sliding velocity and cannot reverse
+  // it (the tangent would overshoot stick by up to h μ g per step at dt = 1/30 s).
+  if (p.friction > 0)
+  {
+    const Eigen::Vector3d ut = u - un * n;
+    const double s = std::sqrt(ut.squaredNorm() + p.slipVelocity * p.slipVelocity);
+    const double g = 1 + p.anisotropy * t.dot(ut) / s;
+    const double eta = p.friction * g * lambda / s;
+    out.force -= eta * ut;
+    out.damping += eta * (Eigen::Matrix3d::Identity() - nn);
+  }
+  return true;
+}
+
+void BodyContacts::respond(const std::vector<StrandSample>& samples, double linearDensity,
+                           const ContactBody* bodies, int bodyCount,
+                           std::vector<ContactResponse>& response, ContactSummary* summary) const
+{
+  if (!Parameters.enabled || bodyCount <= 0)
+  {
+    return;
+  }
+  const std::size_t n = std::min(samples.size(), response.size());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    // Fibre tangent (root → tip) from the neighbouring samples: central where there are two.
+    const std::size_t a = i > 0 ? i - 1 : i, b = i + 1 < samples.size() ? i + 1 : i;
+    Eigen::Vector3d t = samples[b].position - samples[a].position;
+    const double tn = t.norm();
+    t = tn > 0 ? Eigen::Vector3d(t / tn) : Eigen::Vector3d::Zero();
+    bool touching = false;
+    for (int k = 0; k < bodyCount; ++k)
+    {
+      double depth = 0;
+      ContactResponse r;
+      if (respondOne(samples[i].position, samples[i].velocity, t, linearDensity, bodies[k], r,
+                     depth))
+      {
+        touching = true;
+        response[i].force += r.force;
+        response[i].stiffness += r.stiffness;
+        response[i].damping += r.damping;
+      }
+      if (summary)
+      {
+        summary->deepest = std::max(summary->deepest, depth);
+      }
+    }
+    if (summary && touching)
+    {
+      ++summary->samplesInContact;
+    }
+  }
+}
+
+} // namespace hair

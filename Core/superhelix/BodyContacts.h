@@ -1,0 +1,111 @@
+#pragma once
+// Hair–body contact for Super-Helix strands: penalty, normal damping and anisotropic,
+// regularized Coulomb friction at the strand's quadrature samples against moving body parts
+// (collision tables, Kurihara et al. 1993). The response is the force per unit length with
+// its stiffness K = −∂f/∂x and damping D that SuperHelix::setContactForces expects; the
+// step treats K and D implicitly. The equations and the defaults are in
+// docs/superhelix-contacts.md.
+#include "collision/CollisionTable.h"
+#include "common/Status.h"
+#include "superhelix/SuperHelix.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace hair
+{
+
+/// Contact parameters (SI units). Defaults and why: docs/superhelix-contacts.md.
+struct BodyContactParameters
+{
+  bool enabled = true;
+  /// k_n: normal force per unit length per metre of penetration [N/m²]. A resting strand
+  /// of weight ρS g per unit length sinks by ρS g / k_n: 5 µm (wavy) to 10 µm (smooth).
+  double stiffness = 10.0;
+  /// ζ: normal damping as a fraction of the critical damping of one sample on the penalty
+  /// spring, c_n = 2 ζ √(k_n ρS) [N·s/m²] (1: no bounce).
+  double dampingRatio = 1.0;
+  /// μ: Coulomb friction coefficient (averaged over the sliding directions).
+  double friction = 0.3;
+  /// a ∈ [0, 1): anisotropy of the friction (cuticle scales). μ_eff = μ (1 + a cos ψ),
+  /// ψ the angle between the fibre's tangent (root → tip) and its sliding velocity relative
+  /// to the body: tip-first sliding (the body rubbing the fibre tip → root, against the
+  /// scales) has μ (1 + a), root-first μ (1 − a).
+  double anisotropy = 0.2;
+  /// A guide stands for a clump of hair: it touches at this distance from the surface [m].
+  double thickness = 1e-3;
+  /// ε: regularization speed of the Coulomb law [m/s]; below it, friction is viscous
+  /// (μ λ / ε per unit speed) and a strand held by friction creeps at most at ~ε.
+  double slipVelocity = 1e-3;
+  /// The step size [s] (set it to the simulation's). The response is linearized at the start
+  /// of a step, so a sample that is outside then gets no force during it however fast it
+  /// comes in: a sample that would reach the clump's layer within `lookAhead` at its
+  /// current normal speed is treated as in contact already (see docs/superhelix-contacts.md).
+  double lookAhead = 1.0 / 30;
+
+  /// Names the first parameter out of range, what is wrong and what to do.
+  Status validate() const;
+};
+
+/// A body part at one instant: its table, its pose (part at rest → now) and its rigid
+/// velocity field v(x) = velocity + angularVelocity × x (world coordinates, x about the
+/// world origin), so friction acts on the velocity relative to a moving head. Holds the
+/// pose itself (not a BodyPart) so that threads at different times share one table.
+struct ContactBody
+{
+  const CollisionTable* table = nullptr; ///< must outlive the call
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
+
+  static ContactBody still(const BodyPart& part)
+  {
+    ContactBody b;
+    b.table = &part.table;
+    b.pose = part.pose;
+    return b;
+  }
+};
+
+/// What one call found (for statistics; optional).
+struct ContactSummary
+{
+  int samplesInContact = 0; ///< samples closer than `thickness` to a surface
+  double deepest = 0;       ///< largest penetration into the table surface itself [m]
+};
+
+/// Stateless apart from its parameters and the parts' reach (culling): `respond` is const
+/// and allocates nothing, so strands may be answered from several threads at once.
+class BodyContacts
+{
+public:
+  /// Validates the parameters; on error *this is unchanged.
+  Status setParameters(const BodyContactParameters& parameters);
+  const BodyContactParameters& parameters() const { return Parameters; }
+
+  /// Adds to `response[i]` the contact response of sample i of one strand against every
+  /// body in `bodies` (overlapping bodies, e.g. head and trunk at the neck, add up: the
+  /// sum is continuous where a "deepest body" choice would jump). Samples
+  /// must be in order of arc length (as SuperHelix::samples() gives them): the fibre
+  /// tangent for the anisotropy is taken from the neighbouring samples. `linearDensity`
+  /// is the strand's ρS [kg/m] (for the critical damping). `response` must have one entry
+  /// per sample.
+  void respond(const std::vector<StrandSample>& samples, double linearDensity,
+               const ContactBody* bodies, int bodyCount, std::vector<ContactResponse>& response,
+               ContactSummary* summary = nullptr) const;
+
+  /// The response of one sample (exposed for tests): position x, velocity v, fibre tangent
+  /// t (unit, root → tip) against one body. Returns false (and leaves `out` alone) when the
+  /// sample is farther than `thickness` from the surface or the table does not cover it.
+  /// `depth` receives the table's penetration (Q − P)·N (> 0 inside).
+  bool respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v, const Eigen::Vector3d& t,
+                  double linearDensity, const ContactBody& body, ContactResponse& out,
+                  double& depth) const;
+
+private:
+  BodyContactParameters Parameters;
+};
+
+} // namespace hair

@@ -1,0 +1,168 @@
+// Cost of hair–body contacts in the Super-Helix step (docs/superhelix-contacts.md has the
+// table and the command), on the demo's scene: guides on the bundled scalp (wavy, 30 cm,
+// N = 10, combed), the head shaking ±0.5 rad at 1 Hz, head and trunk tables.
+//   BM_Step/<guides>/<contacts>   one step of 1/30 s of every guide on one thread, with
+//                                 contacts (1) or without (0), side by side, from the same
+//                                 state (1 s into the shake with contacts)
+//   BM_Respond/<guides>           BodyContacts::respond alone for every guide's samples
+#include "projective/ProjectiveScenes.h"
+#include "simulation/Simulation.h"
+#include "strands/RootSampling.h"
+#include "superhelix/BodyContacts.h"
+#include "superhelix/SuperHelix.h"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <vector>
+
+using namespace hair;
+
+namespace
+{
+struct Scene
+{
+  BundledBody body;
+  HeadMotion motion;
+  BodyContacts contacts;
+  std::vector<SuperHelix> strands; ///< 1 s into the shake, contacts on
+
+  /// The parts at time t: the head follows the motion, the trunk stays.
+  void bodiesAt(double t, std::vector<ContactBody>& out) const
+  {
+    Eigen::Vector3d v0, w, a0, al;
+    motion.rates(t, v0, w, a0, al);
+    out.assign(2, ContactBody());
+    out[0].table = &body.parts[body.head].table;
+    out[0].pose = motion.pose(t);
+    out[0].velocity = v0;
+    out[0].angularVelocity = w;
+    out[1].table = &body.parts[body.trunk].table;
+  }
+  ContactForces hook() const
+  {
+    return
+        [this](int, double t, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)
+    {
+      thread_local std::vector<ContactBody> bodies;
+      bodiesAt(t, bodies);
+      contacts.respond(s, strands[0].spec().hair.linearDensity(), bodies.data(), 2, r);
+    };
+  }
+};
+
+Scene& scene(int guides)
+{
+  static std::map<int, std::unique_ptr<Scene>> cache;
+  std::unique_ptr<Scene>& s = cache[guides];
+  if (s)
+    return *s;
+  s = std::make_unique<Scene>();
+  (void)loadBundledBody(HAIR_DATA_DIR, s->body);
+  s->motion.kind = HeadMotion::Kind::Shake;
+  s->motion.amplitude = 0.5;
+  s->motion.frequency = 1.0;
+  (void)s->contacts.setParameters(BodyContactParameters());
+  std::vector<Root> roots;
+  RootSamplingOptions ro;
+  ro.count = guides;
+  (void)sampleRoots(s->body.mesh, bundledScalp(s->body.mesh), ro, roots);
+  const double flip = s->body.mesh.signedVolume() < 0 ? -1 : 1;
+  const Eigen::Vector3d comb = Eigen::Vector3d(0, -1, -0.3).normalized();
+  s->strands.resize(roots.size());
+  for (std::size_t k = 0; k < roots.size(); ++k)
+  {
+    StrandSpec spec = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType::Wavy));
+    spec.id = static_cast<int>(k);
+    spec.seed = 1 + static_cast<std::uint32_t>(k);
+    const Eigen::Vector3d n = flip * roots[k].normal;
+    Eigen::Matrix3d f0;
+    f0.col(0) = (0.65 * n + 0.35 * comb).normalized();
+    f0.col(1) = (n - n.dot(f0.col(0)) * f0.col(0)).normalized();
+    f0.col(2) = f0.col(0).cross(f0.col(1));
+    const Eigen::Vector3d x0 = roots[k].position;
+    const HeadMotion m = s->motion;
+    spec.root = [x0, f0, m](double t)
+    {
+      RootState r;
+      const Eigen::Isometry3d pose = m.pose(t);
+      Eigen::Vector3d v0, w, a0, al;
+      m.rates(t, v0, w, a0, al);
+      r.position = pose * x0;
+      r.orientation = pose.linear() * f0;
+      r.angularVelocity = w;
+      r.angularAcceleration = al;
+      r.velocity = v0 + w.cross(r.position);
+      r.acceleration = a0 + al.cross(r.position) + w.cross(w.cross(r.position));
+      return r;
+    };
+    (void)s->strands[k].initialize(spec);
+    s->strands[k].setContactForces(s->hook());
+  }
+  for (int i = 0; i < 30; ++i)
+    (void)stepStrands(s->strands, 1.0 / 30, 2);
+  return *s;
+}
+
+void BM_Step(benchmark::State& state)
+{
+  Scene& s = scene(static_cast<int>(state.range(0)));
+  const bool contacts = state.range(1) != 0;
+  std::vector<SuperHelix> strands = s.strands; // the same state for both variants
+  for (SuperHelix& h : strands)
+    h.setContactForces(contacts ? s.hook() : ContactForces());
+  double substeps = 0;
+  for (auto _ : state)
+  {
+    const Status st = stepStrands(strands, 1.0 / 30, 1);
+    if (!st)
+    {
+      state.SkipWithError(st.message().c_str());
+      break;
+    }
+    for (const SuperHelix& h : strands)
+      substeps += h.lastSubsteps();
+  }
+  state.counters["substeps"] =
+      benchmark::Counter(substeps / strands.size(), benchmark::Counter::kAvgIterations);
+  state.counters["us_per_guide"] = benchmark::Counter(
+      double(strands.size()) * state.iterations(),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+  state.SetLabel(contacts ? "contacts" : "no contacts");
+}
+
+void BM_Respond(benchmark::State& state)
+{
+  Scene& s = scene(static_cast<int>(state.range(0)));
+  std::vector<std::vector<StrandSample>> samples;
+  for (const SuperHelix& h : s.strands)
+    samples.push_back(h.samples());
+  std::vector<ContactBody> bodies;
+  s.bodiesAt(1.0, bodies);
+  std::vector<ContactResponse> r;
+  const double rhoS = s.strands[0].spec().hair.linearDensity();
+  for (auto _ : state)
+  {
+    for (const std::vector<StrandSample>& smp : samples)
+    {
+      r.assign(smp.size(), ContactResponse());
+      s.contacts.respond(smp, rhoS, bodies.data(), 2, r);
+      benchmark::DoNotOptimize(r.data());
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * samples.size());
+}
+
+void stepArgs(benchmark::internal::Benchmark* b)
+{
+  for (int guides : {200, 1000, 5000})
+    for (int contacts : {0, 1})
+      b->Args({guides, contacts});
+}
+} // namespace
+
+BENCHMARK(BM_Step)->Apply(stepArgs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Respond)->Arg(200)->Arg(1000)->Arg(5000)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
