@@ -1,0 +1,304 @@
+// Hair–hair contacts between Super-Helix guide strands (docs/hair-hair-contacts.md), driven
+// through the strands' contact hook at dt = 1/30 s.
+// References: brute-force O(n²) search for the broad phase; Newton's third law for the pair
+// forces; the strands' own energy budget (docs/super-helix.md) for the contact work; the
+// static penetration of a penalty, load / stiffness.
+#include "superhelix/HairHairContacts.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace hair;
+
+namespace
+{
+constexpr double Dt = 1.0 / 30;
+
+HairParameters smoothHair()
+{
+  HairParameters p = HairParameters::preset(HairType::Smooth);
+  p.ellipticity = 1;
+  p.helixRadius = p.helixStep = 0;
+  p.curvatureVariation = 0;
+  return p;
+}
+
+// A right-handed frame whose first column is `tangent`.
+Eigen::Matrix3d frameWithTangent(const Eigen::Vector3d& tangent)
+{
+  Eigen::Matrix3d f;
+  f.col(0) = tangent.normalized();
+  f.col(1) = f.col(0).unitOrthogonal();
+  f.col(2) = f.col(0).cross(f.col(1));
+  return f;
+}
+
+// Smallest distance between the centrelines of two strands (8 points per element).
+double centrelineDistance(const SuperHelix& a, const SuperHelix& b)
+{
+  std::vector<Eigen::Vector3d> pa, pb;
+  a.polyline(8, pa);
+  b.polyline(8, pb);
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i + 1 < pa.size(); ++i)
+    for (size_t j = 0; j + 1 < pb.size(); ++j)
+    {
+      double u, v;
+      best = std::min(best, closestPointsOfSegments(pa[i], pa[i + 1], pb[j], pb[j + 1], u, v));
+    }
+  return std::sqrt(best);
+}
+
+// Steps every strand once, the contacts (if any) updated from all strands first.
+Status stepAll(std::vector<SuperHelix>& strands, HairHairContacts* contacts, int threads = 2)
+{
+  if (contacts)
+  {
+    Status st = contacts->update(strands);
+    if (!st)
+      return st;
+  }
+  return stepStrands(strands, Dt, threads);
+}
+} // namespace
+
+TEST(HairHairContacts, ClosestPointsOfSegments)
+{
+  // Crossing at right angles 0.3 apart; parallel overlapping; an end against an interior.
+  double u, v;
+  double d2 = closestPointsOfSegments({0, 0, 0}, {1, 0, 0}, {0.25, -1, 0.3}, {0.25, 1, 0.3}, u, v);
+  EXPECT_NEAR(std::sqrt(d2), 0.3, 1e-15);
+  EXPECT_NEAR(u, 0.25, 1e-15);
+  EXPECT_NEAR(v, 0.5, 1e-15);
+  d2 = closestPointsOfSegments({0, 0, 0}, {1, 0, 0}, {0.5, 0.2, 0}, {2, 0.2, 0}, u, v);
+  EXPECT_NEAR(std::sqrt(d2), 0.2, 1e-15);
+  EXPECT_NEAR(u, 0.75, 1e-15); // middle of the overlap [0.5, 1]
+  d2 = closestPointsOfSegments({0, 0, 0}, {1, 0, 0}, {2, 0.5, 0}, {3, 2, 0}, u, v);
+  EXPECT_NEAR(std::sqrt(d2), std::sqrt(1 + 0.25), 1e-15);
+  EXPECT_EQ(u, 1);
+  EXPECT_EQ(v, 0);
+}
+
+TEST(HairHairContacts, BadParametersAreRefusedWithTheirName)
+{
+  struct Case
+  {
+    const char* name;
+    void (*set)(HairHairParameters&);
+  };
+  const Case cases[] = {
+      {"thickness", [](HairHairParameters& p) { p.thickness = 0; }},
+      {"thickness", [](HairHairParameters& p) { p.thickness = std::nan(""); }},
+      {"thickness", [](HairHairParameters& p) { p.thickness = 2.5; }},
+      {"stiffness", [](HairHairParameters& p) { p.stiffness = -1; }},
+      {"stiffness", [](HairHairParameters& p) { p.stiffness = INFINITY; }},
+      {"damping", [](HairHairParameters& p) { p.damping = -1e-4; }},
+      {"friction", [](HairHairParameters& p) { p.friction = std::nan(""); }},
+      {"margin", [](HairHairParameters& p) { p.margin = -1; }},
+      {"margin", [](HairHairParameters& p) { p.margin = 3; }},
+      {"cellSize", [](HairHairParameters& p) { p.cellSize = -0.1; }},
+  };
+  for (const Case& c : cases)
+  {
+    HairHairParameters p;
+    c.set(p);
+    HairHairContacts h;
+    const Status st = h.setParameters(p);
+    ASSERT_FALSE(st.ok()) << c.name;
+    EXPECT_NE(st.message().find(c.name), std::string::npos) << st.message();
+  }
+  EXPECT_TRUE(HairHairParameters().validate().ok());
+  // Bad input to update: duplicate ids, non-finite samples.
+  HairHairContacts h;
+  std::vector<std::vector<StrandSample>> s(2, std::vector<StrandSample>(3));
+  for (auto& strand : s)
+    for (int k = 0; k < 3; ++k)
+    {
+      strand[k].s = 0.01 * (k + 1);
+      strand[k].weight = 0.01;
+    }
+  Status st = h.update(s, {4, 4});
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("same id"), std::string::npos) << st.message();
+  s[1][2].position.x() = std::nan("");
+  st = h.update(s);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("non-finite"), std::string::npos) << st.message();
+}
+
+TEST(HairHairContacts, GridFindsTheSamePairsAsBruteForce)
+{
+  // Random polylines (random walks) in a 5 cm box, thickness and margin such that many
+  // pieces are near: every pair of pieces of different strands whose grown boxes overlap
+  // must come out of the grid once, and nothing else; and every pair closer than
+  // 2 × thickness must be a contact.
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> box(0, 0.05), step(-0.006, 0.006);
+  long contacts = 0;
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    const int strands = 5 + trial * 3;
+    std::vector<std::vector<StrandSample>> s(strands);
+    for (auto& strand : s)
+    {
+      Eigen::Vector3d x(box(gen), box(gen), box(gen));
+      const int n = 2 + static_cast<int>(gen() % 30);
+      for (int k = 0; k < n; ++k)
+      {
+        StrandSample smp;
+        smp.s = 0.01 * (k + 1);
+        smp.weight = 0.01;
+        smp.position = x;
+        strand.push_back(smp);
+        x += Eigen::Vector3d(step(gen), step(gen), step(gen));
+      }
+    }
+    HairHairParameters p;
+    p.thickness = 1e-3 * (1 + trial % 4);
+    p.margin = trial % 2 ? 0 : 2e-3;
+    p.cellSize = trial % 3 == 0 ? 0 : 0.004; // automatic, and smaller than the boxes
+    HairHairContacts h;
+    ASSERT_TRUE(h.setParameters(p).ok());
+    ASSERT_TRUE(h.update(s).ok());
+    const double grow = p.thickness + 0.5 * p.margin;
+    std::vector<std::pair<std::int64_t, std::int64_t>> brute;
+    long close = 0;
+    for (int a = 0; a < strands; ++a)
+      for (int b = a + 1; b < strands; ++b)
+        for (size_t i = 0; i + 1 < s[a].size(); ++i)
+          for (size_t j = 0; j + 1 < s[b].size(); ++j)
+          {
+            const Eigen::Vector3d loA =
+                s[a][i].position.cwiseMin(s[a][i + 1].position).array() - grow;
+            const Eigen::Vector3d hiA =
+                s[a][i].position.cwiseMax(s[a][i + 1].position).array() + grow;
+            const Eigen::Vector3d loB =
+                s[b][j].position.cwiseMin(s[b][j + 1].position).array() - grow;
+            const Eigen::Vector3d hiB =
+                s[b][j].position.cwiseMax(s[b][j + 1].position).array() + grow;
+            if ((loA.array() > hiB.array()).any() || (loB.array() > hiA.array()).any())
+              continue;
+            brute.emplace_back(HairHairContacts::pieceKey(a, static_cast<int>(i)),
+                               HairHairContacts::pieceKey(b, static_cast<int>(j)));
+            double u, v;
+            if (closestPointsOfSegments(s[a][i].position, s[a][i + 1].position, s[b][j].position,
+                                        s[b][j + 1].position, u, v) < 4 * p.thickness * p.thickness)
+              ++close;
+          }
+    std::sort(brute.begin(), brute.end());
+    EXPECT_EQ(h.candidatePairs(), brute) << "trial " << trial;
+    // Contacts: the close pairs, less those whose closest point is a shared vertex reported
+    // by the neighbouring piece as well (counted once there); never more.
+    EXPECT_LE(h.stats().contacts, close);
+    contacts += h.stats().contacts;
+  }
+  EXPECT_GT(contacts, 100) << "the configurations must have contacts to test";
+}
+
+namespace
+{
+// Two strands whose roots move towards each other; the closest approach of their centrelines
+// over the run. Strand A is clamped horizontally (tangent +z) and droops; strand B is its
+// mirror image, clamped at z = 2D facing −z, D being how far A's free part hangs out in z,
+// so that their hanging parts meet. Their roots move to x = 0 (they stay 2D apart).
+Status pushTogether(bool withContacts, double& closest, double& depthAtRest, double thickness)
+{
+  // Air drag 20 times the smooth preset's, so that the drooping strands settle within 2 s.
+  HairParameters hair = smoothHair();
+  hair.airFriction = 2e-4;
+  const double L = 0.3;
+  // A alone, settled, for D.
+  double D = 0;
+  {
+    StrandSpec s = StrandSpec::uniform(L, 10, hair);
+    RootState r;
+    r.orientation = frameWithTangent({0, 0, 1});
+    s.root = [r](double) { return r; };
+    SuperHelix a;
+    Status st = a.initialize(s);
+    if (!st)
+      return st;
+    for (int i = 0; i < 60; ++i)
+      if (!(st = a.step(Dt)))
+        return st;
+    D = a.position(0.5 * L).z();
+  }
+  auto rootOf = [D](int side)
+  {
+    return [D, side](double t)
+    {
+      // Roots at x = ∓3 cm, moving to 0 between t = 2 s and 4 s (smoothstep, speed ≤ 2.25
+      // cm/s).
+      const double x0 = side == 0 ? -0.03 : 0.03;
+      const double u = std::clamp(0.5 * (t - 2.0), 0.0, 1.0);
+      const double sm = u * u * (3 - 2 * u), dsm = 3 * u * (1 - u), ddsm = 1.5 - 3 * u;
+      const bool moving = t > 2 && t < 4;
+      RootState r;
+      r.position = Eigen::Vector3d(x0 * (1 - sm), 0, side == 0 ? 0 : 2 * D);
+      r.velocity = Eigen::Vector3d(moving ? -x0 * dsm : 0, 0, 0);
+      r.acceleration = Eigen::Vector3d(moving ? -x0 * ddsm : 0, 0, 0);
+      r.orientation = frameWithTangent({0, 0, side == 0 ? 1.0 : -1.0});
+      return r;
+    };
+  };
+  std::vector<SuperHelix> strands(2);
+  for (int i = 0; i < 2; ++i)
+  {
+    StrandSpec s = StrandSpec::uniform(L, 10, hair);
+    s.id = i;
+    s.root = rootOf(i);
+    Status st = strands[i].initialize(s);
+    if (!st)
+      return st;
+  }
+  HairHairContacts contacts;
+  HairHairParameters p;
+  p.thickness = thickness;
+  Status st = contacts.setParameters(p);
+  if (!st)
+    return st;
+  if (withContacts)
+    for (SuperHelix& h : strands)
+      h.setContactForces(contacts.hook());
+  closest = std::numeric_limits<double>::infinity();
+  depthAtRest = 0;
+  for (int i = 0; i < 180; ++i) // 6 s: 2 s settling, 2 s moving, 2 s still
+  {
+    if (!(st = stepAll(strands, withContacts ? &contacts : nullptr)))
+      return st;
+    closest = std::min(closest, centrelineDistance(strands[0], strands[1]));
+  }
+  depthAtRest = 2 * thickness - centrelineDistance(strands[0], strands[1]);
+  return Status::Ok();
+}
+} // namespace
+
+TEST(HairHairContacts, StrandsPushedTogetherDoNotPassThrough)
+{
+  // The load pressing the two hanging parts together is the lateral pull of gravity on a
+  // strand pushed aside by about a thickness: ~ ρS g L × (thickness / L) ≈ 2.5e-7 N, which
+  // the default penalty (0.1 N/m) holds at a static penetration of ~ 3 µm per contact,
+  // 0.05 % of 2 × thickness. Contacts are found at the start of a step, so a pair first
+  // seen in contact can already be in by its relative motion over one step: the roots close
+  // at ≤ 2 × 2.25 cm/s, ≤ 1.5 mm per step (30 % of 2 × thickness) and the overdamped
+  // hanging parts follow them no faster. Hence the bound: above 70 % of 2 × thickness.
+  const double thickness = 2.5e-3;
+  double closest = 0, depth = 0;
+  Status st = pushTogether(true, closest, depth, thickness);
+  ASSERT_TRUE(st.ok()) << st.message();
+  EXPECT_GT(closest, 0.7 * 2 * thickness);
+  // At rest, pressed together: the static penetration, well under the 30 % transient.
+  EXPECT_LT(depth, 0.1 * 2 * thickness);
+  // Without contacts the hanging parts, mirror images of each other, go into each other by
+  // more than half the contact distance.
+  double closestFree = 0, depthFree = 0;
+  st = pushTogether(false, closestFree, depthFree, thickness);
+  ASSERT_TRUE(st.ok()) << st.message();
+  EXPECT_LT(closestFree, 0.5 * 2 * thickness);
+  std::printf("closest approach: %.3g mm with contacts, %.3g mm without (2 × thickness = %.3g "
+              "mm)\n",
+              1e3 * closest, 1e3 * closestFree, 2e3 * thickness);
+}
