@@ -123,6 +123,7 @@ Status HairHairContacts::setParameters(const HairHairParameters& parameters)
     return st;
   Params = parameters;
   HaveBuild = false;
+  ContactKeys.clear();
   return Status::Ok();
 }
 
@@ -343,6 +344,9 @@ void HairHairContacts::narrowPhase()
   const int n = static_cast<int>(Samples.size());
   Sides.assign(n, {});
   Contacts.clear();
+  std::swap(PreviousKeys, ContactKeys);
+  ContactKeys.clear();
+  std::vector<double> arrival; // ½ k w δ² per contact, in Contacts' order
   const double R = 2 * Params.thickness;
   const double k = Params.stiffness, cn = Params.damping, ct = Params.friction;
   // The share of a contact whose closest point is an interior vertex V of a strand (shared
@@ -415,6 +419,8 @@ void HairHairContacts::narrowPhase()
       Stats.dissipationRate += w * (cn * vn * vn + ct * vt.squaredNorm());
     }
     Stats.potentialEnergy += w * 0.5 * k * delta * delta;
+    ContactKeys.emplace_back(pieceKey(pa.strand, pa.index), pieceKey(pb.strand, pb.index));
+    arrival.push_back(w * 0.5 * k * delta * delta);
     Stats.maxPenetration = std::max(Stats.maxPenetration, delta);
     HairHairContact c;
     c.strandA = pa.strand;
@@ -428,6 +434,10 @@ void HairHairContacts::narrowPhase()
     Contacts.push_back(c);
   }
   Stats.contacts = static_cast<long>(Contacts.size());
+  for (size_t c = 0; c < ContactKeys.size(); ++c)
+    if (!std::binary_search(PreviousKeys.begin(), PreviousKeys.end(), ContactKeys[c]))
+      Stats.arrivalEnergy += arrival[c];
+  std::sort(ContactKeys.begin(), ContactKeys.end());
 }
 
 void HairHairContacts::addResponses(int strandId, const std::vector<StrandSample>& samples,

@@ -57,6 +57,10 @@ struct HairHairStats
   double maxPenetration = 0;  ///< [m]
   double potentialEnergy = 0; ///< Σ ½ k δ² [J]
   double dissipationRate = 0; ///< Σ c_n v_n² + c_t |v_t|² over pressed contacts [W]
+  /// Σ ½ k δ² of the contacts that were not contacts at the previous update: the energy a
+  /// penalty detected at the start of a step can give back without having taken it (the
+  /// pair went in during a step without force). It bounds the energy the contacts can add.
+  double arrivalEnergy = 0; ///< [J]
 };
 
 /// One contact between pieces of two strands at the last update() (for tests and studies).
@@ -142,7 +146,8 @@ private:
   };
   std::vector<Entry> Entries, Sorted;
 
-  std::vector<std::vector<Side>> Sides; // per strand
+  std::vector<std::vector<Side>> Sides;                                         // per strand
+  std::vector<std::pair<std::int64_t, std::int64_t>> ContactKeys, PreviousKeys; // sorted
   std::vector<HairHairContact> Contacts;
   HairHairStats Stats;
 };

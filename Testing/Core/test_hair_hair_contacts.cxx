@@ -204,7 +204,14 @@ namespace
 // over the run. Strand A is clamped horizontally (tangent +z) and droops; strand B is its
 // mirror image, clamped at z = 2D facing −z, D being how far A's free part hangs out in z,
 // so that their hanging parts meet. Their roots move to x = 0 (they stay 2D apart).
-Status pushTogether(bool withContacts, double& closest, double& depthAtRest, double thickness)
+struct PairEnergy
+{
+  double contactWork = 0, residual = 0, dissipated = 0, penalty = 0, arrival = 0;
+  double netForce = 0, pairForce = 0; ///< |Σ forces| and Σ |forces| at the last update
+};
+
+Status pushTogether(bool withContacts, double& closest, double& depthAtRest, double thickness,
+                    PairEnergy* energy = nullptr)
 {
   // Air drag 20 times the smooth preset's, so that the drooping strands settle within 2 s.
   HairParameters hair = smoothHair();
@@ -265,13 +272,44 @@ Status pushTogether(bool withContacts, double& closest, double& depthAtRest, dou
       h.setContactForces(contacts.hook());
   closest = std::numeric_limits<double>::infinity();
   depthAtRest = 0;
+  if (energy)
+    *energy = PairEnergy{};
   for (int i = 0; i < 180; ++i) // 6 s: 2 s settling, 2 s moving, 2 s still
   {
     if (!(st = stepAll(strands, withContacts ? &contacts : nullptr)))
       return st;
+    if (energy)
+      energy->arrival += contacts.stats().arrivalEnergy;
     closest = std::min(closest, centrelineDistance(strands[0], strands[1]));
   }
   depthAtRest = 2 * thickness - centrelineDistance(strands[0], strands[1]);
+  if (energy)
+  {
+    for (const SuperHelix& h : strands)
+    {
+      energy->contactWork += h.energy().total.contactWork;
+      energy->residual += h.energy().total.residual;
+      energy->dissipated += h.energy().total.frictionDissipated + h.energy().total.airDissipated;
+    }
+    // Momentum: the responses the hook gives every strand at the update's configuration,
+    // integrated along the strands (Σ weight × force per unit length), must cancel.
+    if (!(st = contacts.update(strands)))
+      return st;
+    energy->penalty = contacts.stats().potentialEnergy;
+    Eigen::Vector3d net = Eigen::Vector3d::Zero();
+    for (const SuperHelix& h : strands)
+    {
+      const std::vector<StrandSample>& smp = h.samples();
+      std::vector<ContactResponse> r(smp.size());
+      contacts.addResponses(h.spec().id, smp, r);
+      for (size_t i = 0; i < smp.size(); ++i)
+      {
+        net += smp[i].weight * r[i].force;
+        energy->pairForce += smp[i].weight * r[i].force.norm();
+      }
+    }
+    energy->netForce = net.norm();
+  }
   return Status::Ok();
 }
 } // namespace
@@ -298,7 +336,189 @@ TEST(HairHairContacts, StrandsPushedTogetherDoNotPassThrough)
   st = pushTogether(false, closestFree, depthFree, thickness);
   ASSERT_TRUE(st.ok()) << st.message();
   EXPECT_LT(closestFree, 0.5 * 2 * thickness);
+  PairEnergy e;
+  st = pushTogether(true, closest, depth, thickness, &e);
+  ASSERT_TRUE(st.ok()) << st.message();
+  // Newton's third law: the forces on the two strands cancel to round-off (1e-12 of their
+  // magnitude: a few dozen double-precision operations each).
+  EXPECT_GT(e.pairForce, 0) << "the strands must be in contact at the end";
+  EXPECT_LT(e.netForce, 1e-12 * e.pairForce);
+  // Energy: the contact forces are a convex penalty plus dissipation, stepped implicitly
+  // (backward Euler dissipates on a convex potential), so their total work cannot exceed
+  // minus the penalty energy stored at the end (0 at the start), except for what a contact
+  // found at the start of a step already in gives back without having taken it: the
+  // arrival energy Σ ½ k δ² of new contacts.
+  EXPECT_LE(e.contactWork, -e.penalty + e.arrival);
+  std::printf("contact work %.3g J, penalty energy at the end %.3g J, arrival energy %.3g J, "
+              "residual %.3g J, friction + air %.3g J; |Σ F| = %.3g N of Σ |F| = %.3g N\n",
+              e.contactWork, e.penalty, e.arrival, e.residual, e.dissipated, e.netForce,
+              e.pairForce);
   std::printf("closest approach: %.3g mm with contacts, %.3g mm without (2 × thickness = %.3g "
               "mm)\n",
               1e3 * closest, 1e3 * closestFree, 2e3 * thickness);
+}
+
+namespace
+{
+// A clump of `count` guides rooted on a horizontal disc of radius rho0 (sunflower pattern),
+// hanging down. Between t = 0 and 1 s every root tilts its tangent towards the axis by an
+// angle growing with its distance from the axis (α_i = αmax ρ_i / ρ0, smoothstep): the
+// hairs are gathered, as by a band below the roots, so that without hair–hair contacts they
+// all converge onto the axis. From t = 3 s the disc oscillates vertically (amplitude a,
+// frequency f). Records, per step, the mean distance to the clump's axis of the points at
+// arc length sProbe, and the span (largest distance between two of them).
+struct ClumpRun
+{
+  std::vector<double> time, meanRadius, span, maxPenetration;
+  double contactWork = 0, mechanical0 = 0, mechanical1 = 0, rootWork = 0, friction = 0, air = 0,
+         residual = 0;
+  double penaltyEnergy = 0;
+};
+
+struct ClumpSetup
+{
+  int count = 50;
+  double rho0 = 0.012, alphaMax = 0.5, length = 0.3, sProbe = 0.2;
+  double amplitude = 0.01, frequency = 3, startOscillation = 3, duration = 6;
+  double internalFriction = -1; ///< < 0: the preset's
+  bool contacts = true;
+  HairHairParameters parameters;
+};
+
+Status runClump(const ClumpSetup& c, ClumpRun& out)
+{
+  HairParameters hair = smoothHair();
+  if (c.internalFriction >= 0)
+    hair.internalFriction = c.internalFriction;
+  std::vector<SuperHelix> strands(c.count);
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  for (int i = 0; i < c.count; ++i)
+  {
+    const double rho = c.rho0 * std::sqrt((i + 0.5) / c.count), phi = i * golden;
+    const Eigen::Vector3d radial(std::cos(phi), 0, std::sin(phi));
+    const Eigen::Vector3d root = rho * radial;
+    const Eigen::Vector3d axis = Eigen::Vector3d::UnitY().cross(radial); // turns −y towards −radial
+    const double alpha = c.alphaMax * rho / c.rho0;
+    const Eigen::Matrix3d F0 = frameWithTangent({0, -1, 0});
+    const double a = c.amplitude, w = 2 * M_PI * c.frequency, t0 = c.startOscillation;
+    StrandSpec s = StrandSpec::uniform(c.length, 10, hair);
+    s.id = i;
+    s.name = "clump " + std::to_string(i);
+    s.root = [=](double t)
+    {
+      const double u = std::clamp(t, 0.0, 1.0);
+      const bool ramp = t > 0 && t < 1;
+      const double th = alpha * u * u * (3 - 2 * u);
+      const double thd = ramp ? alpha * 6 * u * (1 - u) : 0;
+      const double thdd = ramp ? alpha * (6 - 12 * u) : 0;
+      RootState r;
+      r.orientation = Eigen::AngleAxisd(th, axis).toRotationMatrix() * F0;
+      r.angularVelocity = thd * axis;
+      r.angularAcceleration = thdd * axis;
+      r.position = root;
+      if (t > t0)
+      {
+        r.position.y() += a * std::sin(w * (t - t0));
+        r.velocity.y() = a * w * std::cos(w * (t - t0));
+        r.acceleration.y() = -a * w * w * std::sin(w * (t - t0));
+      }
+      return r;
+    };
+    Status st = strands[i].initialize(s);
+    if (!st)
+      return st;
+  }
+  HairHairContacts contacts;
+  Status st = contacts.setParameters(c.parameters);
+  if (!st)
+    return st;
+  if (c.contacts)
+    for (SuperHelix& h : strands)
+      h.setContactForces(contacts.hook());
+  auto record = [&]()
+  {
+    std::vector<Eigen::Vector3d> p;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const SuperHelix& h : strands)
+    {
+      p.push_back(h.position(c.sProbe));
+      centre += p.back();
+    }
+    centre /= c.count;
+    double mean = 0, span = 0;
+    for (size_t i = 0; i < p.size(); ++i)
+    {
+      mean += Eigen::Vector2d(p[i].x() - centre.x(), p[i].z() - centre.z()).norm();
+      for (size_t j = 0; j < i; ++j)
+        span = std::max(span, Eigen::Vector2d(p[i].x() - p[j].x(), p[i].z() - p[j].z()).norm());
+    }
+    out.time.push_back(strands[0].time());
+    out.meanRadius.push_back(mean / c.count);
+    out.span.push_back(span);
+    out.maxPenetration.push_back(contacts.stats().maxPenetration);
+  };
+  out = ClumpRun{};
+  for (const SuperHelix& h : strands)
+    out.mechanical0 += h.energy().mechanical();
+  record();
+  const int steps = static_cast<int>(std::lround(c.duration / Dt));
+  for (int i = 0; i < steps; ++i)
+  {
+    if (!(st = stepAll(strands, c.contacts ? &contacts : nullptr)))
+      return st;
+    record();
+  }
+  for (const SuperHelix& h : strands)
+  {
+    const EnergyReport& e = h.energy();
+    out.mechanical1 += e.mechanical();
+    out.contactWork += e.total.contactWork;
+    out.rootWork += e.total.rootWork;
+    out.friction += e.total.frictionDissipated;
+    out.air += e.total.airDissipated;
+    out.residual += e.total.residual;
+  }
+  if (c.contacts)
+  {
+    (void)contacts.update(strands);
+    out.penaltyEnergy = contacts.stats().potentialEnergy;
+  }
+  return Status::Ok();
+}
+} // namespace
+
+// NOT ACHIEVED (disabled; docs/hair-hair-contacts.md, "What is left"): the clump of 50 gathered
+// guides. Criterion: with contacts, once gathered (t >= 1 s) and through the vertical
+// oscillation, the mean distance to the axis at s = 0.2 m stays above the packing bound of 50
+// disks of radius 0.7 × thickness (no pair overlapping by more than 30 %, the first-contact
+// bound of the two-strand test): (2/3) · 0.7 · 1.2 mm · √(50 / 0.9069) = 4.2 mm; without,
+// it falls below. Measured (default stiffness): the gathered clump reaches 92 % overlaps
+// (the load of the whole pile on the inner contacts) and the oscillation from t = 3 s flings
+// the strands apart (span 0.35 m); stiffer penalties (1, 10 N/m) blow up earlier.
+TEST(HairHairContacts, DISABLED_ClumpKeepsItsVolume)
+{
+  const double thickness = 1.2e-3;
+  const double bound = (2.0 / 3) * 0.7 * thickness * std::sqrt(50 / 0.9069);
+  ClumpRun with, without;
+  for (bool on : {true, false})
+  {
+    ClumpSetup c;
+    c.contacts = on;
+    c.parameters.thickness = thickness;
+    ClumpRun& r = on ? with : without;
+    const Status st = runClump(c, r);
+    for (size_t i = 0; i < r.time.size(); i += 6)
+      std::printf("contacts %d t=%.2f mean radius %.3g m span %.3g m max penetration %.3g m\n", on,
+                  r.time[i], r.meanRadius[i], r.span[i], r.maxPenetration[i]);
+    ASSERT_TRUE(st.ok()) << st.message();
+  }
+  double minWith = 1, minWithout = 1;
+  for (size_t i = 0; i < with.time.size(); ++i)
+    if (with.time[i] >= 1)
+    {
+      minWith = std::min(minWith, with.meanRadius[i]);
+      minWithout = std::min(minWithout, without.meanRadius[i]);
+    }
+  EXPECT_GT(minWith, bound);
+  EXPECT_LT(minWithout, bound);
 }
