@@ -35,6 +35,13 @@ struct HairHairParameters
   double damping = 2e-4;
   /// Viscous tangential friction c_t [N·s/m] on the tangential relative velocity.
   double friction = 1e-5;
+  /// Cap of a contact's normal force [N]: beyond it the penalty saturates (constant force,
+  /// no stiffness). The Super-Helix step treats the load-dependent stiffness of a strand
+  /// explicitly and chooses its sub-steps from gravity and root accelerations only, so
+  /// contact loads far above the strand's weight make it blow up (measured: deep initial
+  /// overlaps, dense clumps); 2e-5 N is the weight of 20 cm of a smooth hair, 20 × the
+  /// largest contact force of a settled pair.
+  double maxForce = 1e-4;
   /// Temporal coherence: keep the candidate pairs found with this extra distance [m] and
   /// reuse them, without rebuilding the grid, while no sample has moved more than half of
   /// it since they were found. 0 disables it (grid rebuilt every update).
@@ -141,7 +148,7 @@ private:
   std::vector<int> BucketEntries;
   struct Entry
   {
-    int piece;
+    int piece, strand;
     int ix, iy, iz;
   };
   std::vector<Entry> Entries, Sorted;
