@@ -131,6 +131,65 @@ TEST(HairHairContacts, BadParametersAreRefusedWithTheirName)
   EXPECT_NE(st.message().find("non-finite"), std::string::npos) << st.message();
 }
 
+TEST(HairHairContacts, CrossingPairGetsThePenaltyDampingAndFrictionOfTheEquations)
+{
+  // Two straight strands crossing at right angles, 4.5 mm apart (contact distance 5 mm), the
+  // crossing in the middle of a piece of each; A moves towards B at 1 cm/s and along B at
+  // 2 cm/s. The force on A must be (k δ − c_n w_n) n − c_t w_t (docs/hair-hair-contacts.md),
+  // spread over A's two samples and written per unit length (Σ weight × f = F), B getting
+  // the opposite; the implicit blocks summed over A's samples must be 2 k n nᵀ and
+  // 2 (c_n n nᵀ + c_t (I − n nᵀ)) (the mirror model).
+  HairHairParameters p;
+  const double gap = 4.5e-3, delta = 2 * p.thickness - gap;
+  std::vector<std::vector<StrandSample>> s(2);
+  const Eigen::Vector3d vA(0, -0.01, 0.02);
+  for (int k = 0; k < 4; ++k)
+  {
+    StrandSample a, b;
+    a.s = b.s = 0.01 * k + 0.005;
+    a.weight = b.weight = 0.01;
+    a.position = Eigen::Vector3d(0.01 * k - 0.013, gap, 0); // A along x, above B
+    a.velocity = vA;
+    b.position = Eigen::Vector3d(0, 0, 0.01 * k - 0.017); // B along z
+    s[0].push_back(a);
+    s[1].push_back(b);
+  }
+  HairHairContacts h;
+  ASSERT_TRUE(h.setParameters(p).ok());
+  ASSERT_TRUE(h.update(s).ok());
+  ASSERT_EQ(h.stats().contacts, 1);
+  const Eigen::Vector3d n(0, 1, 0);
+  const double wn = vA.dot(n);
+  const Eigen::Vector3d wt = vA - wn * n;
+  const Eigen::Vector3d expected = (p.stiffness * delta - p.damping * wn) * n - p.friction * wt;
+  ASSERT_LT(expected.norm(), p.maxForce); // not capped
+  for (int strand = 0; strand < 2; ++strand)
+  {
+    std::vector<ContactResponse> r(4);
+    h.addResponses(strand, s[strand], r);
+    Eigen::Vector3d F = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d K = Eigen::Matrix3d::Zero(), D = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < 4; ++k)
+    {
+      F += s[strand][k].weight * r[k].force;
+      K += s[strand][k].weight * r[k].stiffness;
+      D += s[strand][k].weight * r[k].damping;
+    }
+    // Round-off: a few operations on numbers of order 1e-4 N.
+    EXPECT_LT((F - (strand == 0 ? 1 : -1) * expected).norm(), 1e-15) << strand;
+    const Eigen::Matrix3d nn = n * n.transpose();
+    EXPECT_LT((K - 2 * p.stiffness * nn).norm(), 1e-15);
+    EXPECT_LT((D - 2 * (p.damping * nn + p.friction * (Eigen::Matrix3d::Identity() - nn))).norm(),
+              1e-15);
+  }
+  // The crossing is at u = 0.3 of A's piece 1 (samples 1 and 2): 0.7 and 0.3 of F.
+  std::vector<ContactResponse> r(4);
+  h.addResponses(0, s[0], r);
+  EXPECT_LT((s[0][1].weight * r[1].force - 0.7 * expected).norm(), 1e-15);
+  EXPECT_LT((s[0][2].weight * r[2].force - 0.3 * expected).norm(), 1e-15);
+  EXPECT_TRUE(r[0].force.isZero(0) && r[3].force.isZero(0));
+}
+
 TEST(HairHairContacts, GridFindsTheSamePairsAsBruteForce)
 {
   // Random polylines (random walks) in a 5 cm box, thickness and margin such that many
