@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 namespace hair
 {
@@ -57,6 +58,9 @@ Status HairHairParameters::validate() const
     return s;
   if (Status s = checkNonNegative("cellSize", cellSize, "m", "0 chooses it automatically."); !s)
     return s;
+  if (threads < 1 || threads > 256)
+    return Status::Error("HairHairParameters: threads = " + std::to_string(threads) +
+                         " is invalid; give 1 to 256 threads for the narrow phase (default 1).");
   if (margin > 1)
     return Status::Error("HairHairParameters: margin = " + number(margin) +
                          " m is more than 1 m; it is a distance of the order of the thickness "
@@ -373,11 +377,6 @@ void HairHairContacts::broadPhase()
 void HairHairContacts::narrowPhase()
 {
   const int n = static_cast<int>(Samples.size());
-  Sides.assign(n, {});
-  Contacts.clear();
-  std::swap(PreviousKeys, ContactKeys);
-  ContactKeys.clear();
-  std::vector<double> arrival; // ½ k w δ² per contact, in Contacts' order
   const double R = 2 * Params.thickness;
   const double k = Params.stiffness, cn = Params.damping, ct = Params.friction;
   // The share of a contact whose closest point is an interior vertex V of a strand (shared
@@ -404,70 +403,132 @@ void HairHairContacts::narrowPhase()
     const Eigen::Vector3d w = other - s[vertex].position;
     return w.dot(t) > 1e-9 * t.norm() * w.norm() ? 0.0 : 0.5;
   };
-  for (const auto& [ia, ib] : Candidates)
+  // What one thread finds in a range of candidates; merged in range order, so the result
+  // does not depend on the number of threads.
+  struct Found
   {
-    const Piece &pa = Pieces[ia], &pb = Pieces[ib];
-    const std::vector<StrandSample>& sa = Samples[pa.strand];
-    const std::vector<StrandSample>& sb = Samples[pb.strand];
-    const StrandSample &a0 = sa[pa.index], &a1 = sa[pa.index + 1];
-    const StrandSample &b0 = sb[pb.index], &b1 = sb[pb.index + 1];
-    double u, v;
-    const double d2 =
-        closestPointsOfSegments(a0.position, a1.position, b0.position, b1.position, u, v);
-    if (d2 >= R * R)
-      continue;
-    const Eigen::Vector3d xa = a0.position + u * (a1.position - a0.position);
-    const Eigen::Vector3d xb = b0.position + v * (b1.position - b0.position);
-    const double w = share(sa, pa.index, u, xb) * share(sb, pb.index, v, xa);
-    if (w == 0)
-      continue;
-    const Eigen::Vector3d va = a0.velocity + u * (a1.velocity - a0.velocity);
-    const Eigen::Vector3d vb = b0.velocity + v * (b1.velocity - b0.velocity);
-    const double sA = a0.s + u * (a1.s - a0.s), sB = b0.s + v * (b1.s - b0.s);
-    Sides[pa.strand].push_back({sA, xa - xb, va - vb, xa, va, w});
-    Sides[pb.strand].push_back({sB, xb - xa, vb - va, xb, vb, w});
-    // The force at the update's configuration (what addResponses gives with these samples).
-    const double d = std::sqrt(d2);
-    Eigen::Vector3d nrm = xa - xb;
-    if (d > 0)
-      nrm /= d;
-    else
+    std::vector<HairHairContact> contacts;
+    std::vector<Side> sideA, sideB;
+    std::vector<double> arrival; // ½ k w δ² per contact
+    std::vector<std::pair<std::int64_t, std::int64_t>> keys;
+    double potential = 0, dissipation = 0, deepest = 0;
+  };
+  auto process = [&](size_t first, size_t last, Found& out)
+  {
+    for (size_t c = first; c < last; ++c)
     {
-      nrm = (a1.position - a0.position).cross(b1.position - b0.position);
-      if (nrm.norm() == 0)
-        nrm = (a1.position - a0.position).unitOrthogonal();
-      nrm.normalize();
+      const Piece &pa = Pieces[Candidates[c].first], &pb = Pieces[Candidates[c].second];
+      const std::vector<StrandSample>& sa = Samples[pa.strand];
+      const std::vector<StrandSample>& sb = Samples[pb.strand];
+      const StrandSample &a0 = sa[pa.index], &a1 = sa[pa.index + 1];
+      const StrandSample &b0 = sb[pb.index], &b1 = sb[pb.index + 1];
+      double u, v;
+      const double d2 =
+          closestPointsOfSegments(a0.position, a1.position, b0.position, b1.position, u, v);
+      if (d2 >= R * R)
+        continue;
+      const Eigen::Vector3d xa = a0.position + u * (a1.position - a0.position);
+      const Eigen::Vector3d xb = b0.position + v * (b1.position - b0.position);
+      const double w = share(sa, pa.index, u, xb) * share(sb, pb.index, v, xa);
+      if (w == 0)
+        continue;
+      const Eigen::Vector3d va = a0.velocity + u * (a1.velocity - a0.velocity);
+      const Eigen::Vector3d vb = b0.velocity + v * (b1.velocity - b0.velocity);
+      const double sA = a0.s + u * (a1.s - a0.s), sB = b0.s + v * (b1.s - b0.s);
+      out.sideA.push_back({sA, xa - xb, va - vb, xa, va, w});
+      out.sideB.push_back({sB, xb - xa, vb - va, xb, vb, w});
+      // The force at the update's configuration (what addResponses gives with these samples).
+      const double d = std::sqrt(d2);
+      Eigen::Vector3d nrm = xa - xb;
+      if (d > 0)
+        nrm /= d;
+      else
+      {
+        nrm = (a1.position - a0.position).cross(b1.position - b0.position);
+        if (nrm.norm() == 0)
+          nrm = (a1.position - a0.position).unitOrthogonal();
+        nrm.normalize();
+      }
+      const double delta = R - d;
+      const Eigen::Vector3d vrel = va - vb;
+      const double vn = vrel.dot(nrm);
+      const double lambda = std::min(k * delta - cn * vn, Params.maxForce);
+      Eigen::Vector3d force = Eigen::Vector3d::Zero();
+      if (lambda > 0)
+      {
+        const Eigen::Vector3d vt = vrel - vn * nrm;
+        force = w * (lambda * nrm - ct * vt);
+        out.dissipation += w * (cn * vn * vn + ct * vt.squaredNorm());
+      }
+      out.potential += w * 0.5 * k * delta * delta;
+      out.arrival.push_back(w * 0.5 * k * delta * delta);
+      out.keys.emplace_back(pieceKey(pa.strand, pa.index), pieceKey(pb.strand, pb.index));
+      out.deepest = std::max(out.deepest, delta);
+      HairHairContact hc;
+      hc.strandA = pa.strand;
+      hc.strandB = pb.strand;
+      hc.sA = sA;
+      hc.sB = sB;
+      hc.pointA = xa;
+      hc.pointB = xb;
+      hc.distance = d;
+      hc.forceOnA = force;
+      out.contacts.push_back(hc);
     }
-    const double delta = R - d;
-    const Eigen::Vector3d vrel = va - vb;
-    const double vn = vrel.dot(nrm);
-    const double lambda = std::min(k * delta - cn * vn, Params.maxForce);
-    Eigen::Vector3d force = Eigen::Vector3d::Zero();
-    if (lambda > 0)
+  };
+  // Ranges of at least 4096 candidates, at most one per thread.
+  const size_t count = Candidates.size();
+  const int parts = static_cast<int>(
+      std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(Params.threads), count / 4096)));
+  std::vector<Found> found(static_cast<size_t>(parts));
+  auto range = [&](int t) { return std::make_pair(count * t / parts, count * (t + 1) / parts); };
+  if (parts == 1)
+    process(0, count, found[0]);
+  else
+  {
+    std::vector<std::thread> pool;
+    int started = 1;
+    try
     {
-      const Eigen::Vector3d vt = vrel - vn * nrm;
-      force = w * (lambda * nrm - ct * vt);
-      Stats.dissipationRate += w * (cn * vn * vn + ct * vt.squaredNorm());
+      for (; started < parts; ++started)
+        pool.emplace_back(
+            [&, started]()
+            {
+              const auto [first, last] = range(started);
+              process(first, last, found[started]);
+            });
     }
-    Stats.potentialEnergy += w * 0.5 * k * delta * delta;
-    ContactKeys.emplace_back(pieceKey(pa.strand, pa.index), pieceKey(pb.strand, pb.index));
-    arrival.push_back(w * 0.5 * k * delta * delta);
-    Stats.maxPenetration = std::max(Stats.maxPenetration, delta);
-    HairHairContact c;
-    c.strandA = pa.strand;
-    c.strandB = pb.strand;
-    c.sA = sA;
-    c.sB = sB;
-    c.pointA = xa;
-    c.pointB = xb;
-    c.distance = d;
-    c.forceOnA = force;
-    Contacts.push_back(c);
+    catch (...)
+    {
+      // No more threads: the calling thread does the remaining ranges.
+    }
+    process(range(0).first, range(0).second, found[0]);
+    for (int t = started; t < parts; ++t)
+      process(range(t).first, range(t).second, found[t]);
+    for (std::thread& th : pool)
+      th.join();
+  }
+  Sides.assign(n, {});
+  Contacts.clear();
+  std::swap(PreviousKeys, ContactKeys);
+  ContactKeys.clear();
+  for (const Found& f : found)
+  {
+    for (size_t c = 0; c < f.contacts.size(); ++c)
+    {
+      const HairHairContact& hc = f.contacts[c];
+      Sides[hc.strandA].push_back(f.sideA[c]);
+      Sides[hc.strandB].push_back(f.sideB[c]);
+      ContactKeys.push_back(f.keys[c]);
+      if (!std::binary_search(PreviousKeys.begin(), PreviousKeys.end(), f.keys[c]))
+        Stats.arrivalEnergy += f.arrival[c];
+      Contacts.push_back(hc);
+    }
+    Stats.potentialEnergy += f.potential;
+    Stats.dissipationRate += f.dissipation;
+    Stats.maxPenetration = std::max(Stats.maxPenetration, f.deepest);
   }
   Stats.contacts = static_cast<long>(Contacts.size());
-  for (size_t c = 0; c < ContactKeys.size(); ++c)
-    if (!std::binary_search(PreviousKeys.begin(), PreviousKeys.end(), ContactKeys[c]))
-      Stats.arrivalEnergy += arrival[c];
   std::sort(ContactKeys.begin(), ContactKeys.end());
 }
 

@@ -46,6 +46,9 @@ struct HairHairParameters
   /// reuse them, without rebuilding the grid, while no sample has moved more than half of
   /// it since they were found. 0 disables it (grid rebuilt every update).
   double margin = 2.5e-3;
+  /// Threads of the narrow phase in update() (std::thread; ranges of at least 4096 candidate
+  /// pairs; the result does not depend on it).
+  int threads = 1;
   /// Grid cell size [m]; 0: automatic (longest piece + 2 × thickness + margin).
   double cellSize = 0;
 

@@ -101,6 +101,7 @@ TEST(HairHairContacts, BadParametersAreRefusedWithTheirName)
       {"margin", [](HairHairParameters& p) { p.margin = 3; }},
       {"cellSize", [](HairHairParameters& p) { p.cellSize = -0.1; }},
       {"maxForce", [](HairHairParameters& p) { p.maxForce = 0; }},
+      {"threads", [](HairHairParameters& p) { p.threads = 0; }},
       {"maxForce", [](HairHairParameters& p) { p.maxForce = INFINITY; }},
   };
   for (const Case& c : cases)
@@ -257,6 +258,58 @@ TEST(HairHairContacts, GridFindsTheSamePairsAsBruteForce)
     contacts += h.stats().contacts;
   }
   EXPECT_GT(contacts, 100) << "the configurations must have contacts to test";
+}
+
+TEST(HairHairContacts, ThreadsFindTheSameContactsInTheSameOrder)
+{
+  // 300 random walks in a 3 cm box: tens of thousands of candidate pairs, split over 1, 2
+  // and 3 threads; the merged result must be the same to the bit.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> box(0, 0.03), step(-0.004, 0.004), vel(-0.1, 0.1);
+  std::vector<std::vector<StrandSample>> s(300);
+  for (auto& strand : s)
+  {
+    Eigen::Vector3d x(box(gen), box(gen), box(gen));
+    for (int k = 0; k < 30; ++k)
+    {
+      StrandSample smp;
+      smp.s = 0.004 * (k + 1);
+      smp.weight = 0.004;
+      smp.position = x;
+      smp.velocity = Eigen::Vector3d(vel(gen), vel(gen), vel(gen));
+      strand.push_back(smp);
+      x += Eigen::Vector3d(step(gen), step(gen), step(gen));
+    }
+  }
+  std::vector<HairHairContact> reference;
+  for (int threads : {1, 2, 3})
+  {
+    HairHairParameters p;
+    p.threads = threads;
+    HairHairContacts h;
+    ASSERT_TRUE(h.setParameters(p).ok());
+    ASSERT_TRUE(h.update(s).ok());
+    ASSERT_GT(h.stats().candidatePairs, 3 * 4096) << "too few candidates to split";
+    if (threads == 1)
+    {
+      reference = h.contacts();
+      continue;
+    }
+    ASSERT_EQ(h.contacts().size(), reference.size());
+    for (size_t c = 0; c < reference.size(); ++c)
+    {
+      EXPECT_EQ(h.contacts()[c].sA, reference[c].sA);
+      EXPECT_EQ(h.contacts()[c].sB, reference[c].sB);
+      EXPECT_EQ(h.contacts()[c].forceOnA, reference[c].forceOnA);
+    }
+    std::vector<ContactResponse> r1(30), r2(30);
+    h.addResponses(7, s[7], r2);
+    HairHairContacts one;
+    ASSERT_TRUE(one.update(s).ok());
+    one.addResponses(7, s[7], r1);
+    for (int k = 0; k < 30; ++k)
+      EXPECT_EQ(r1[k].force, r2[k].force);
+  }
 }
 
 namespace
