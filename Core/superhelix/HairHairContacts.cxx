@@ -58,6 +58,10 @@ Status HairHairParameters::validate() const
     return s;
   if (Status s = checkNonNegative("cellSize", cellSize, "m", "0 chooses it automatically."); !s)
     return s;
+  if (!(allowedDepth > 0 && allowedDepth < 1))
+    return Status::Error("HairHairParameters: allowedDepth = " + number(allowedDepth) +
+                         " is invalid; give the fraction of the contact distance a pair may "
+                         "reach within a step, in (0, 1) (default 0.3).");
   if (threads < 1 || threads > 256)
     return Status::Error("HairHairParameters: threads = " + std::to_string(threads) +
                          " is invalid; give 1 to 256 threads for the narrow phase (default 1).");
@@ -411,7 +415,7 @@ void HairHairContacts::narrowPhase()
     std::vector<Side> sideA, sideB;
     std::vector<double> arrival; // ½ k w δ² per contact
     std::vector<std::pair<std::int64_t, std::int64_t>> keys;
-    double potential = 0, dissipation = 0, deepest = 0;
+    double potential = 0, dissipation = 0, deepest = 0, rate = 0;
   };
   auto process = [&](size_t first, size_t last, Found& out)
   {
@@ -425,9 +429,20 @@ void HairHairContacts::narrowPhase()
       double u, v;
       const double d2 =
           closestPointsOfSegments(a0.position, a1.position, b0.position, b1.position, u, v);
-      if (d2 >= R * R)
-        continue;
       const Eigen::Vector3d xa = a0.position + u * (a1.position - a0.position);
+      if (d2 >= R * R)
+      {
+        // Not in contact: how fast it closes on the contact distance, against its gap plus
+        // the allowed depth (the rate of updates it asks for; see updatesPerStep).
+        const Eigen::Vector3d xb = b0.position + v * (b1.position - b0.position);
+        const Eigen::Vector3d va = a0.velocity + u * (a1.velocity - a0.velocity);
+        const Eigen::Vector3d vb = b0.velocity + v * (b1.velocity - b0.velocity);
+        const double d = std::sqrt(d2);
+        const double closing = -(va - vb).dot(xa - xb) / d;
+        if (closing > 0)
+          out.rate = std::max(out.rate, closing / (d - R + Params.allowedDepth * R));
+        continue;
+      }
       const Eigen::Vector3d xb = b0.position + v * (b1.position - b0.position);
       const double w = share(sa, pa.index, u, xb) * share(sb, pb.index, v, xa);
       if (w == 0)
@@ -464,6 +479,8 @@ void HairHairContacts::narrowPhase()
       out.arrival.push_back(w * 0.5 * k * delta * delta);
       out.keys.emplace_back(pieceKey(pa.strand, pa.index), pieceKey(pb.strand, pb.index));
       out.deepest = std::max(out.deepest, delta);
+      if (-vn > 0) // still closing: what is left of the allowed depth (5 % if past it)
+        out.rate = std::max(out.rate, -vn / std::max(Params.allowedDepth * R - delta, 0.05 * R));
       HairHairContact hc;
       hc.strandA = pa.strand;
       hc.strandB = pb.strand;
@@ -527,6 +544,7 @@ void HairHairContacts::narrowPhase()
     Stats.potentialEnergy += f.potential;
     Stats.dissipationRate += f.dissipation;
     Stats.maxPenetration = std::max(Stats.maxPenetration, f.deepest);
+    Stats.closingRate = std::max(Stats.closingRate, f.rate);
   }
   Stats.contacts = static_cast<long>(Contacts.size());
   std::sort(ContactKeys.begin(), ContactKeys.end());
@@ -602,6 +620,14 @@ void HairHairContacts::addResponses(int strandId, const std::vector<StrandSample
       r.damping += f * D;
     }
   }
+}
+
+int HairHairContacts::updatesPerStep(double dt, int maxUpdates) const
+{
+  if (!(dt > 0) || maxUpdates < 1)
+    return 1;
+  const double n = std::ceil(dt * Stats.closingRate);
+  return n < 1 ? 1 : (n > maxUpdates ? maxUpdates : static_cast<int>(n));
 }
 
 ContactForces HairHairContacts::hook() const

@@ -46,6 +46,9 @@ struct HairHairParameters
   /// reuse them, without rebuilding the grid, while no sample has moved more than half of
   /// it since they were found. 0 disables it (grid rebuilt every update).
   double margin = 2.5e-3;
+  /// The depth, as a fraction of 2 × thickness, a pair may reach within one step at its
+  /// current closing speed: what HairHairContacts::updatesPerStep aims at.
+  double allowedDepth = 0.3;
   /// Threads of the narrow phase in update() (std::thread; ranges of at least 4096 candidate
   /// pairs; the result does not depend on it).
   int threads = 1;
@@ -71,6 +74,11 @@ struct HairHairStats
   /// penalty detected at the start of a step can give back without having taken it (the
   /// pair went in during a step without force). It bounds the energy the contacts can add.
   double arrivalEnergy = 0; ///< [J]
+  /// Largest closing speed / room of the candidate pairs [1/s]: room is the gap to the
+  /// contact distance plus allowedDepth of it (for a pair in contact: what is left of that,
+  /// at least 5 %).
+  /// A step longer than 1 / closingRate lets some pair, at its current speed, go deeper.
+  double closingRate = 0;
 };
 
 /// One contact between pieces of two strands at the last update() (for tests and studies).
@@ -102,6 +110,11 @@ public:
   /// between updates. A strand unknown to the last update gets nothing.
   void addResponses(int strandId, const std::vector<StrandSample>& samples,
                     std::vector<ContactResponse>& response) const;
+  /// Updates (and strand steps of dt / count) per step of dt that keep every candidate pair
+  /// of the last update, at its current closing speed, within allowedDepth:
+  /// ⌈dt · closingRate⌉, between 1 and maxUpdates. Pairs farther than the boxes' reach
+  /// (2 × thickness + margin) are not seen.
+  int updatesPerStep(double dt, int maxUpdates = 16) const;
   /// A hook calling addResponses (this object must outlive the strands' use of it).
   ContactForces hook() const;
 
