@@ -802,7 +802,8 @@ TEST(HairHairContacts, ClumpShakenWithAdaptiveUpdatesKeepsItsPairsApart)
 // of the clump at s = 0.2 m over time for several internal frictions γ, as CSV on stdout.
 // Run: test_hair_hair_contacts --gtest_also_run_disabled_tests
 //        --gtest_filter='*DISABLED_ClumpSpanCsv*'
-// Environment: HAIR_CLUMP_UPDATES (updates per frame, default 4), HAIR_CLUMP_DURATION (s).
+// Environment: HAIR_CLUMP_UPDATES (updates per frame, default 4; 0: as updatesPerStep asks),
+// HAIR_CLUMP_DURATION (s, default 6).
 TEST(HairHairContacts, DISABLED_ClumpSpanCsv)
 {
   ClumpSetup c;
