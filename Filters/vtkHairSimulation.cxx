@@ -64,6 +64,9 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
      << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
      << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
+     << indent << "Hair-hair contacts: " << (this->HairHairContacts ? "on" : "off") << " thickness "
+     << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
+     << this->HairContactDamping << " friction " << this->HairContactFriction << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n";
 }
 
@@ -247,6 +250,11 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     o.contacts.friction = this->FrictionCoefficient;
     o.contacts.anisotropy = this->FrictionAnisotropy;
     o.contacts.thickness = this->ContactThickness;
+    o.hairHairEnabled = this->HairHairContacts;
+    o.hairHair.thickness = this->HairContactThickness;
+    o.hairHair.stiffness = this->HairContactStiffness;
+    o.hairHair.damping = this->HairContactDamping;
+    o.hairHair.friction = this->HairContactFriction;
     o.contacts.slipVelocity = this->SlipVelocity;
     if (hair::Status s = in.Sim.initialize(guides, parts, o); !s)
     {

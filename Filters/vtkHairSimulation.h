@@ -83,6 +83,19 @@ public:
   vtkGetMacro(FrictionAnisotropy, double);
   vtkSetMacro(ContactThickness, double);
   vtkGetMacro(ContactThickness, double);
+  /// Super-Helix: hair–hair contacts between the guides (hair::HairHairParameters); each
+  /// guide is a clump of radius HairContactThickness.
+  vtkSetMacro(HairHairContacts, bool);
+  vtkGetMacro(HairHairContacts, bool);
+  vtkBooleanMacro(HairHairContacts, bool);
+  vtkSetMacro(HairContactThickness, double);
+  vtkGetMacro(HairContactThickness, double);
+  vtkSetMacro(HairContactStiffness, double);
+  vtkGetMacro(HairContactStiffness, double);
+  vtkSetMacro(HairContactDamping, double);
+  vtkGetMacro(HairContactDamping, double);
+  vtkSetMacro(HairContactFriction, double);
+  vtkGetMacro(HairContactFriction, double);
   vtkSetMacro(SlipVelocity, double);
   vtkGetMacro(SlipVelocity, double);
   /// Where every frame is written (HDF5, docs/state-file.md); empty: not written.
@@ -119,7 +132,12 @@ protected:
   double FrictionCoefficient = 0.3; ///< μ
   double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
   double ContactThickness = 1e-3;   ///< m
-  double SlipVelocity = 1e-3;       ///< m/s
+  bool HairHairContacts = false;
+  double HairContactThickness = 2.5e-3; ///< m, radius of the clump a guide stands for
+  double HairContactStiffness = 0.1;    ///< N/m per contact
+  double HairContactDamping = 2e-4;     ///< N·s/m
+  double HairContactFriction = 1e-5;    ///< N·s/m, viscous
+  double SlipVelocity = 1e-3;           ///< m/s
   std::string StateFileName;
 
 private:

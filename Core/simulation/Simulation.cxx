@@ -118,6 +118,19 @@ Status SimulationOptions::validate() const
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
+  if (hairHairEnabled)
+  {
+    if (Status s = hairHair.validate(); !s)
+    {
+      return Status::Error("hair–hair contacts: " + s.message());
+    }
+    if (hairHairMaxUpdates < 1 || hairHairMaxUpdates > 64)
+    {
+      return Status::Error(
+          "hair–hair contacts: hairHairMaxUpdates = " + std::to_string(hairHairMaxUpdates) +
+          " is out of range; give 1 to 64 searches per step.");
+    }
+  }
   return motion.validate();
 }
 
@@ -136,7 +149,8 @@ struct Simulation::Impl
   std::vector<std::vector<Eigen::Vector3d>> Previous; // projective: nodes one step before
   Status Failed; ///< set when a step failed: the strands may then be at different times
   BodyContacts Body;
-  ContactForces Additional; ///< the seam for other contacts (setAdditionalContacts)
+  HairHairContacts HairHair; ///< used when Options.hairHairEnabled
+  ContactForces Additional;  ///< the seam for other contacts (setAdditionalContacts)
 
   /// The parts at time t, as the contact response needs them (pose and rigid velocity).
   void bodiesAt(double t, std::vector<ContactBody>& out) const
@@ -165,6 +179,10 @@ struct Simulation::Impl
       bodiesAt(t, bodies);
       Body.respond(samples, Helices[strand].spec().hair.linearDensity(), bodies.data(),
                    static_cast<int>(bodies.size()), response);
+    }
+    if (Options.hairHairEnabled)
+    {
+      HairHair.addResponses(strand, samples, response); // strand ids are their indices
     }
     if (Additional)
     {
@@ -405,6 +423,15 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
+  if (options.hairHairEnabled)
+  {
+    HairHairParameters hh = options.hairHair;
+    hh.threads = std::max(1, options.threads);
+    if (Status s = r->HairHair.setParameters(hh); !s)
+    {
+      return Status::Error("hair–hair contacts: " + s.message());
+    }
+  }
   const int n = strands[0].elements;
 
   if (options.model == StrandModel::SuperHelix)
@@ -560,6 +587,16 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
     at["friction_anisotropy"] = c.anisotropy;
     at["contact_thickness"] = c.thickness;
     at["slip_velocity"] = c.slipVelocity;
+    at["hair_hair_contacts"] = options.hairHairEnabled ? 1 : 0;
+    if (options.hairHairEnabled)
+    {
+      const HairHairParameters& h = options.hairHair;
+      at["hair_hair_thickness"] = h.thickness;
+      at["hair_hair_stiffness"] = h.stiffness;
+      at["hair_hair_damping"] = h.damping;
+      at["hair_hair_friction"] = h.friction;
+      at["hair_hair_max_updates"] = options.hairHairMaxUpdates;
+    }
   }
   r->record();
   P = std::move(r);
@@ -587,10 +624,35 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
       const double dt = (target - P->time()) / steps;
       for (int i = 0; i < steps; ++i)
       {
-        if (Status s = stepStrands(P->Helices, dt, P->Options.threads); !s)
+        // Hair–hair: a search before each step; when pairs close fast, the step is cut
+        // into pieces that each start with a new search (HairHairContacts::updatesPerStep).
+        int pieces = 1;
+        if (P->Options.hairHairEnabled)
         {
-          P->Failed = s;
-          return s;
+          if (Status s = P->HairHair.update(P->Helices); !s)
+          {
+            P->Failed = Status::Error("hair–hair contacts at t = " + std::to_string(P->time()) +
+                                      " s: " + s.message());
+            return P->Failed;
+          }
+          pieces = P->HairHair.updatesPerStep(dt, P->Options.hairHairMaxUpdates);
+        }
+        for (int k = 0; k < pieces; ++k)
+        {
+          if (k > 0)
+          {
+            if (Status s = P->HairHair.update(P->Helices); !s)
+            {
+              P->Failed = Status::Error("hair–hair contacts at t = " + std::to_string(P->time()) +
+                                        " s: " + s.message());
+              return P->Failed;
+            }
+          }
+          if (Status s = stepStrands(P->Helices, dt / pieces, P->Options.threads); !s)
+          {
+            P->Failed = s;
+            return s;
+          }
         }
       }
     }

@@ -8,6 +8,7 @@
 #include "common/Status.h"
 #include "io/StateFile.h"
 #include "superhelix/BodyContacts.h"
+#include "superhelix/HairHairContacts.h"
 #include "superhelix/HairParameters.h"
 
 #include <Eigen/Core>
@@ -85,6 +86,13 @@ struct SimulationOptions
   /// `lookAhead` is set to the time step by the simulation. The projective model keeps its
   /// own reaction constraint (docs/projective-strands.md) and ignores these.
   BodyContactParameters contacts;
+  /// Super-Helix: hair–hair contacts between the guides (docs/hair-hair-contacts.md). Before
+  /// every step the contacts are found from all strands; when pairs close fast the step is
+  /// cut into up to `hairHairMaxUpdates` pieces, each starting with a new search, so that
+  /// no pair goes deeper than `hairHair.allowedDepth` of the contact distance within one.
+  bool hairHairEnabled = false;
+  HairHairParameters hairHair;
+  int hairHairMaxUpdates = 8;
   Status validate() const;
 };
 

@@ -101,6 +101,25 @@ for on in (1, 0):
     else:
         check(depth > 5e-3, f"contacts off: strands fall into the head ({depth:.2e} m)")
 
+# Hair–hair contacts: a bad thickness is refused by name; a run with them on goes through
+# and records them in the state file's attributes.
+bad_hh = HairSimulation(Input=strands, Duration=0.1, HairHairContacts=1,  # noqa: F821
+                        HairContactThickness=-0.001)
+errors = Errors(bad_hh)
+bad_hh.UpdatePipeline(0.0)
+check(any("hair–hair" in m and "thickness" in m for m in errors.messages),
+      f"a negative hair contact thickness is refused by name ({errors.messages[:1]})")
+hh_state = os.path.join(tmp, "hair_hair.h5")
+hh = HairSimulation(Input=strands, Colliders=[head], Duration=0.5, HairHairContacts=1,  # noqa: F821
+                    HairContactThickness=0.003, StateFileName=hh_state)
+errors = Errors(hh)
+hh.UpdatePipeline(0.5)
+check(not errors.messages, f"a run with hair–hair contacts goes through ({errors.messages[:1]})")
+with h5py.File(hh_state, "r", swmr=True) as f:
+    attrs = dict(f.attrs)
+check(attrs.get("hair_hair_contacts") == 1 and abs(attrs.get("hair_hair_thickness", 0) - 0.003) < 1e-15,
+      f"the state file records the hair–hair parameters ({ {k: v for k, v in attrs.items() if 'hair_hair' in k} })")
+
 # A run killed with SIGKILL mid-way leaves a readable file.
 killed = os.path.join(tmp, "killed.h5")
 script = os.path.join(tmp, "long_run.py")
