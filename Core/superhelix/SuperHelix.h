@@ -70,8 +70,8 @@ struct ContactResponse
 };
 
 /// Contact hook: given the samples at the start of a (sub-)step, write the response of each
-/// sample (the vector arrives sized and zeroed). Called once per sub-step (see
-/// SuperHelix::step) from the thread that steps this strand.
+/// sample (the vector arrives sized and zeroed). Called once per step (per sub-step of
+/// SuperHelix::advance) from the thread that steps this strand.
 using ContactForces =
     std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
                        std::vector<ContactResponse>& response)>;
