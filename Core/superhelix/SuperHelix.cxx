@@ -245,7 +245,10 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.count = 0;
     if (withNodes)
     {
-      const Eigen::Matrix3d K = skew(k), K2 = K * K;
+      // F0 K and F0 K², so that the frame F0 E(u) and F0 G(u) at each sample are linear
+      // combinations (E, G are polynomials in K).
+      const Eigen::Matrix3d K = skew(k);
+      const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
       const int nsub = std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
@@ -272,12 +275,9 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           {
             const HelixCoefficients& c = nd.coefficients;
             const double u = nd.u;
-            Eigen::Matrix3d E = (u * c.phi0) * K + (u * u * c.phi1) * K2;
-            E.diagonal().array() += 1;
-            Eigen::Matrix3d G = (u * u * c.phi1) * K + (u * u * u * c.phi2) * K2;
-            G.diagonal().array() += u;
-            nd.frame.noalias() = Fr * E;
-            nd.FG.noalias() = Fr * G;
+            const double u2 = u * u;
+            nd.frame = Fr + (u * c.phi0) * FK + (u2 * c.phi1) * FK2;
+            nd.FG = u * Fr + (u2 * c.phi1) * FK + (u2 * u * c.phi2) * FK2;
           }
           // Kinetic energy: centreline and the cross-section's rotation, ω(s) = ω + F0 G k̇.
           const Eigen::Vector3d omLocal = nd.frame.transpose() * (om + nd.FG * kd);
@@ -501,6 +501,7 @@ void SuperHelix::assemble()
     const Element& el = k.elements[e];
     Eigen::Matrix3d Mloc = Eigen::Matrix3d::Zero(), X = Eigen::Matrix3d::Zero(),
                     Y = Eigen::Matrix3d::Zero();
+    const Eigen::Matrix3d K = skew(Q.segment<3>(3 * e)), K2 = K * K;
     Eigen::Vector3d floc = Eigen::Vector3d::Zero(), eF = Eigen::Vector3d::Zero(),
                     eT = Eigen::Vector3d::Zero(), eC = Eigen::Vector3d::Zero();
     Eigen::Matrix3d eTheta = Eigen::Matrix3d::Zero();
@@ -523,12 +524,20 @@ void SuperHelix::assemble()
       // Rotary inertia of the cross-section, I(s) = F diag(ρI_p, ρI1, ρI2) Fᵀ, about the
       // frame's angular velocity, whose Jacobian is A_P (P < e) and F0 G(u) (own element):
       // the same tail-sum structure as the translational second moment Θ.
+      // In the sample's own frame: Fᵀ F0 G(u) = E(u)ᵀ G(u) = G(u) with −k (E and G commute),
+      // so with B = G(−k, u) and D = w diag(ρI_p, ρI1, ρI2):
+      // (F0G)ᵀ I F0G = Bᵀ D B, I F0G = F D B, I = F D Fᵀ.
       {
-        const Eigen::Matrix3d Irot = nd.frame * (nd.w * RotI).asDiagonal() * nd.frame.transpose();
-        const Eigen::Matrix3d IFG = Irot * nd.FG;
-        Mloc.noalias() += nd.FG.transpose() * IFG;
-        X += IFG;
-        eTheta += Irot;
+        const HelixCoefficients& c = nd.coefficients;
+        const double u = nd.u, u2 = u * u;
+        Eigen::Matrix3d B = (-u2 * c.phi1) * K + (u2 * u * c.phi2) * K2;
+        B.diagonal().array() += u;
+        const Eigen::Vector3d d = nd.w * RotI;
+        const Eigen::Matrix3d DB = d.asDiagonal() * B;
+        const Eigen::Matrix3d FD = nd.frame * d.asDiagonal();
+        Mloc.noalias() += B.transpose() * DB;
+        X.noalias() += nd.frame * DB;
+        eTheta.noalias() += FD * nd.frame.transpose();
       }
     }
     // Generalized force of element e: own samples plus the rigid tail beyond it.
