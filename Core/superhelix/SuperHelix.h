@@ -152,8 +152,8 @@ public:
   /// Quadrature samples for the current state.
   const std::vector<StrandSample>& samples() const;
 
-  /// The pieces of one sub-step, exposed for tests and for the benchmark's breakdown.
-  /// solve() uses the M, f and C assembled last for the current state.
+  /// The pieces of one step, exposed for tests and for the benchmark's breakdown.
+  /// solve() uses the M, f, C and K_T assembled last for the current state.
   void reconstruct();                                 ///< kinematics at every sample (time())
   void assemble();                                    ///< M and the explicit generalized force f
   void assembleVelocityJacobian();                    ///< C = ∂f/∂q̇ (after assemble)

@@ -46,9 +46,10 @@ Eigen::Matrix3d hangingFrame()
 TEST(SuperHelixEnergy, ConservedUpToAFirstOrderResidual)
 {
   // No friction, no air, no wind, fixed root: a 30 cm horizontal strand falls under
-  // gravity. The step is first-order (backward Euler in the elastic force, explicit in
-  // the configuration dependence of the loads), so its energy error over a fixed time is
-  // O(dt): the residual must halve with dt.
+  // gravity. The step is first-order (backward Euler in the elastic force; the loads'
+  // configuration dependence explicit up to the tension an explicit step carries, which at
+  // these dt is all of it; velocity terms half implicit), so its energy error over a fixed
+  // time is O(dt): the residual must halve with dt.
   HairParameters p = HairParameters::preset(HairType::Smooth);
   p.curvatureVariation = 0;
   p.internalFriction = 0;
