@@ -1170,7 +1170,7 @@ Status SuperHelix::advance(double dt, double tolerance, int maxDepth)
   std::vector<Eigen::Vector3d> prevEnds;
   if (prev)
     prevEnds = ends();
-  for (int depth = 0; depth < maxDepth; ++depth)
+  for (int depth = 0; depth < maxDepth && 2 * n <= MaxSubsteps; ++depth)
   {
     restore();
     n *= 2;
