@@ -193,8 +193,8 @@ TEST_P(SuperHelixPresetStability, HeadShakingAt3HzFor20sWithoutSubsteps)
 
 TEST_P(SuperHelixPresetStability, CoarseStrandsFor120sWithoutSubsteps)
 {
-  // N = 1 and 3 for 120 s (smooth N = 1 used to refuse a step after 26–56 s, its straight
-  // element's twist having no inertia), and N = 2, 5, 20 for 20 s.
+  // N = 1 and 3 for 120 s (smooth N = 1 used to refuse a step after 26–56 s of shaking),
+  // and N = 2, 5, 20 for 20 s.
   for (int n : {1, 3})
     RecordProperty("N" + std::to_string(n) + "_max_energy_over_bound",
                    sci(shakeAtOneThirtieth(GetParam(), n, 120)));
