@@ -128,6 +128,15 @@ double HairParameters::linearDensity() const
   return density * area();
 }
 
+Eigen::Vector3d HairParameters::rotaryInertia() const
+{
+  const double a = radius * std::sqrt(ellipticity);
+  const double b = radius / std::sqrt(ellipticity);
+  const double i1 = M_PI * a * b * b * b / 4;
+  const double i2 = M_PI * a * a * a * b / 4;
+  return density * Eigen::Vector3d(i1 + i2, i1, i2);
+}
+
 Eigen::Vector3d HairParameters::stiffness() const
 {
   // Semi-axis a along n1, b along n2. Bending about n1 involves the extent along n2.

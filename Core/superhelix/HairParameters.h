@@ -43,6 +43,9 @@ struct HairParameters
   double linearDensity() const; ///< ρ S [kg/m]
   /// (μ J, E I1, E I2): torsion about n0, bending about n1 and about n2 [N·m²].
   Eigen::Vector3d stiffness() const;
+  /// Rotary inertia of the cross-section per unit length, ρ (I1 + I2, I1, I2) [kg·m]:
+  /// about n0 (polar), about n1 and about n2 (I1, I2 as in stiffness()).
+  Eigen::Vector3d rotaryInertia() const;
   /// (τⁿ, κ1ⁿ, κ2ⁿ) from the helix radius and step, as in the paper §4.2.
   Eigen::Vector3d naturalCurvature() const;
 };

@@ -25,6 +25,14 @@ constexpr double GaussX[GaussPoints] = {
 constexpr double GaussW[GaussPoints] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
                                         0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
 constexpr double MaxTurnPerInterval = M_PI / 2;
+// The tension an explicit step carries, T_ex = ρS ℓ² / (64 h²): a string of tension T with
+// nodes ℓ apart has its highest mode at ω = 2 √(T/ρS) / ℓ, so T_ex keeps h ω <= 1/4, an
+// eighth of the explicit (symplectic Euler) limit h ω < 2. Measured: with 1/16 (h ω <= 1/2)
+// the smooth N = 1 strand on the shaking head gained 0.011 J in 300 s (4.5 × the stability
+// test's bound); with 1/64 and 1/256 every preset and N = 1…40 ran 60 s (N = 1, 2, 3:
+// 600 s) with an energy gain below 6e-5 J; with no explicit share (K_T from T = 0 up) the
+// falling-strand residual at dt = 1/8000 s is 4.5 × the explicit step's (docs/super-helix.md).
+constexpr double ExplicitTensionDivisor = 64;
 // Up to this size (3N) the step's matrix is factorized by the unblocked LU in solve();
 // measured faster than Eigen's blocked PartialPivLU at 3N = 30, slower at 3N = 60.
 constexpr int UnblockedLuMax = 45;
@@ -163,6 +171,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
     Starts[i + 1] = Length;
   }
   RhoS = Spec.hair.linearDensity();
+  RotI = Spec.hair.rotaryInertia();
   const Eigen::Vector3d k0 = Spec.hair.naturalCurvature();
   const Eigen::Vector3d stiff = Spec.hair.stiffness();
   std::mt19937 gen(Spec.seed);
@@ -186,6 +195,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Energy = EnergyReport{};
   M.resize(3 * n, 3 * n);
   C.resize(3 * n, 3 * n);
+  Kt.resize(3 * n, 3 * n);
   Lhs.resize(3 * n, 3 * n);
   F.resize(3 * n);
   Initialized = true;
@@ -235,6 +245,10 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.count = 0;
     if (withNodes)
     {
+      // F0 K and F0 K², so that the frame F0 E(u) and F0 G(u) at each sample are linear
+      // combinations (E, G are polynomials in K).
+      const Eigen::Matrix3d K = skew(k);
+      const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
       const int nsub = std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
@@ -258,7 +272,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.wind.setZero();
           nd.contact.setZero();
           nd.hasK = nd.hasD = false;
-          kinetic += 0.5 * nd.w * RhoS * nd.v.squaredNorm();
+          {
+            const HelixCoefficients& c = nd.coefficients;
+            const double u = nd.u;
+            const double u2 = u * u;
+            nd.frame = Fr + (u * c.phi0) * FK + (u2 * c.phi1) * FK2;
+            nd.FG = u * Fr + (u2 * c.phi1) * FK + (u2 * u * c.phi2) * FK2;
+          }
+          // Kinetic energy: centreline and the cross-section's rotation, ω(s) = ω + F0 G k̇.
+          const Eigen::Vector3d omLocal = nd.frame.transpose() * (om + nd.FG * kd);
+          kinetic += 0.5 * nd.w * (RhoS * nd.v.squaredNorm() + RotI.dot(omLocal.cwiseAbs2()));
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
         }
       }
@@ -457,7 +480,7 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
 void SuperHelix::assemble()
 {
   const int n = elementCount();
-  const Kinematics& k = Cur;
+  Kinematics& k = Cur;
   // Explicit force per unit length: gravity, drag on the rigid (root-carried) velocity
   // against the wind (the q̇-part of drag is implicit), inertia of the root motion and the
   // velocity-dependent terms, contacts.
@@ -478,15 +501,17 @@ void SuperHelix::assemble()
     const Element& el = k.elements[e];
     Eigen::Matrix3d Mloc = Eigen::Matrix3d::Zero(), X = Eigen::Matrix3d::Zero(),
                     Y = Eigen::Matrix3d::Zero();
+    const Eigen::Matrix3d K = skew(Q.segment<3>(3 * e)), K2 = K * K;
     Eigen::Vector3d floc = Eigen::Vector3d::Zero(), eF = Eigen::Vector3d::Zero(),
                     eT = Eigen::Vector3d::Zero(), eC = Eigen::Vector3d::Zero();
     Eigen::Matrix3d eTheta = Eigen::Matrix3d::Zero();
     double eM = 0;
     for (int j = el.first; j < el.first + el.count; ++j)
     {
-      const Node& nd = k.nodes[j];
+      Node& nd = k.nodes[j];
       const double wm = nd.w * RhoS;
       const Eigen::Vector3d f = gravity - nu * (nd.v0 - nd.wind) - RhoS * nd.a0 + nd.contact;
+      nd.load = f;
       floc.noalias() += nd.w * (nd.J.transpose() * f);
       eF += nd.w * f;
       eT += nd.w * nd.r.cross(f);
@@ -496,6 +521,24 @@ void SuperHelix::assemble()
       eM += wm;
       eC += wm * nd.r;
       eTheta += wm * (nd.r.squaredNorm() * Eigen::Matrix3d::Identity() - nd.r * nd.r.transpose());
+      // Rotary inertia of the cross-section, I(s) = F diag(ρI_p, ρI1, ρI2) Fᵀ, about the
+      // frame's angular velocity, whose Jacobian is A_P (P < e) and F0 G(u) (own element):
+      // the same tail-sum structure as the translational second moment Θ.
+      // In the sample's own frame: Fᵀ F0 G(u) = E(u)ᵀ G(u) = G(u) with −k (E and G commute),
+      // so with B = G(−k, u) and D = w diag(ρI_p, ρI1, ρI2):
+      // (F0G)ᵀ I F0G = Bᵀ D B, I F0G = F D B, I = F D Fᵀ.
+      {
+        const HelixCoefficients& c = nd.coefficients;
+        const double u = nd.u, u2 = u * u;
+        Eigen::Matrix3d B = (-u2 * c.phi1) * K + (u2 * u * c.phi2) * K2;
+        B.diagonal().array() += u;
+        const Eigen::Vector3d d = nd.w * RotI;
+        const Eigen::Matrix3d DB = d.asDiagonal() * B;
+        const Eigen::Matrix3d FD = nd.frame * d.asDiagonal();
+        Mloc.noalias() += B.transpose() * DB;
+        X.noalias() += nd.frame * DB;
+        eTheta.noalias() += FD * nd.frame.transpose();
+      }
     }
     // Generalized force of element e: own samples plus the rigid tail beyond it.
     F.segment<3>(3 * e) = floc + el.A.transpose() * tailT + el.W.transpose() * tailF;
@@ -525,6 +568,63 @@ void SuperHelix::assemble()
     Eigen::Matrix3d d = M.block<3, 3>(3 * e, 3 * e);
     M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
   }
+}
+
+void SuperHelix::assembleTensionStiffness(double h)
+{
+  // K_T = ∫ T⁺(s) J_ω(s)ᵀ (I − n0 n0ᵀ) J_ω(s) ds (docs/super-helix.md, "Tension
+  // stiffness"): the part of the loads' geometric stiffness −∂f/∂q carried by the tension
+  // T(s) = n0(s) · ∫_s^L f (+ the tip force), which is what makes a hanging strand a chain
+  // of pendulums. J_ω is the Jacobian of the frame's rotation: A_P for P before the
+  // sample's element, F0 G(u) for its own element. Only the tension beyond what an explicit
+  // step carries is used, T⁺ = max(0, T − ρS ℓ² / (64 h²)), so that small steps keep the
+  // explicit (energy-neutral) treatment. Tail sums as for the mass matrix: O(N²).
+  const int n = elementCount();
+  Kinematics& k = Cur;
+  thread_local std::vector<Eigen::Matrix3d> Y;
+  Y.resize(n);
+  Eigen::Vector3d tailF = Spec.tipForce;
+  Eigen::Matrix3d tailP = Eigen::Matrix3d::Zero(); // ∫ T⁺ (I − n0 n0ᵀ) beyond the element
+  for (int e = n - 1; e >= 0; --e)
+  {
+    const Element& el = k.elements[e];
+    const double l = Spec.elementLengths[e];
+    const double explicitTension = RhoS * l * l / (ExplicitTensionDivisor * h * h);
+    Eigen::Matrix3d Yown = Eigen::Matrix3d::Zero(), Down = Eigen::Matrix3d::Zero(),
+                    eP = Eigen::Matrix3d::Zero();
+    double beyond = 0; // Σ w of the element's samples beyond the current one
+    for (int j = el.first + el.count - 1; j >= el.first; --j)
+    {
+      const Node& nd = k.nodes[j];
+      const Eigen::Vector3d wf = nd.w * nd.load;
+      // Tail force at the sample: the samples beyond it, and its own load over the rest of
+      // the length to the element's end (exact for a uniform load).
+      const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * nd.load;
+      tailF += wf;
+      beyond += nd.w;
+      const Eigen::Vector3d n0 = nd.frame.col(0);
+      const double T = n0.dot(atSample) - explicitTension;
+      if (!(T > 0))
+        continue;
+      Eigen::Matrix3d P = -(nd.w * T) * (n0 * n0.transpose());
+      P.diagonal().array() += nd.w * T;
+      const Eigen::Matrix3d PFG = P * nd.FG;
+      Yown += PFG;
+      Down.noalias() += nd.FG.transpose() * PFG;
+      eP += P;
+    }
+    Y[e] = Yown + tailP * el.A;
+    const Eigen::Matrix3d d = Down + el.A.transpose() * (tailP * el.A);
+    Kt.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
+    tailP += eP;
+  }
+  for (int p = 1; p < n; ++p)
+    for (int qq = 0; qq < p; ++qq)
+    {
+      const Eigen::Matrix3d b = k.elements[qq].A.transpose() * Y[p];
+      Kt.block<3, 3>(3 * qq, 3 * p) = b;
+      Kt.block<3, 3>(3 * p, 3 * qq) = b.transpose();
+    }
 }
 
 void SuperHelix::assembleVelocityJacobian()
@@ -739,14 +839,18 @@ void SuperHelix::addContactJacobians(double h)
 
 Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
 {
-  // (M + hΓ + h²𝕂 + h D_air − h C) q̇ⁿ⁺¹ = M q̇ⁿ + h (f − 𝕂 (qⁿ − q_rest) − C q̇ⁿ),
-  // with D_air = ν ∫ JᵀJ = (ν / ρS) M for a uniform strand and C = ∂f/∂q̇ (the
-  // velocity-dependent forces linearized about q̇ⁿ).
+  // (M + hΓ + h²(𝕂 + K_T) + h D_air − ½ h C) q̇ⁿ⁺¹ = M q̇ⁿ + h (f − 𝕂 (qⁿ − q_rest) − ½ C q̇ⁿ)
+  // (docs/super-helix.md). D_air = ν ∫ JᵀJ, taken as (ν / ρS) M for a uniform strand (M's
+  // rotary-inertia share, < 1e-5 of it, gets the same factor). f is quadratic in q̇,
+  // f = f₀ + L q̇ + Q(q̇, q̇), C = ∂f/∂q̇ = L + 2 Q(q̇ⁿ, ·), so f − ½ C q̇ⁿ + ½ C q̇ⁿ⁺¹ =
+  // f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 + Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint,
+  // one factor of the quadratic ones at the new velocity.
   const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
-  Lhs = airScale * M - h * C;
+  Lhs = airScale * M - (0.5 * h) * C;
+  Lhs.noalias() += (h * h) * Kt;
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
   Rhs.noalias() = M * Qdot;
-  Rhs.noalias() -= h * (C * Qdot);
+  Rhs.noalias() -= (0.5 * h) * (C * Qdot);
   Rhs += h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
   addContactJacobians(h);
   const int m = static_cast<int>(Lhs.rows());
@@ -826,47 +930,10 @@ Status SuperHelix::step(double dt)
   Status st = checkStep(dt);
   if (!st)
     return st;
-  // Sub-steps for stability, re-chosen before each sub-step from the current state.
-  const Eigen::VectorXd q0 = Q, qd0 = Qdot;
-  const double t0 = Time;
-  const EnergyReport e0 = Energy;
-  EnergyTerms sum;
-  double remaining = dt;
-  int taken = 0;
-  while (remaining > 0)
-  {
-    const int n = static_cast<int>(std::ceil(remaining / stabilityLimit() - 1e-9));
-    const double h = n <= 1 ? remaining : remaining / n;
-    st = taken < MaxSubsteps
-             ? singleStep(h)
-             : Status::Error(where(t0, t0 + dt) + "more than " + std::to_string(MaxSubsteps) +
-                             " stability sub-steps were needed; the previous state is "
-                             "kept. Check the root motion and forces.");
-    if (!st)
-    {
-      Q = q0;
-      Qdot = qd0;
-      Time = t0;
-      Energy = e0;
-      reconstruct();
-      return st;
-    }
-    ++taken;
-    remaining = n <= 1 ? 0 : remaining - h;
-    const EnergyTerms& l = Energy.lastStep;
-    sum.frictionDissipated += l.frictionDissipated;
-    sum.airDissipated += l.airDissipated;
-    sum.rootWork += l.rootWork;
-    sum.windWork += l.windWork;
-    sum.contactWork += l.contactWork;
-    sum.loadWork += l.loadWork;
-    sum.residual += l.residual;
-  }
-  Time = t0 + dt; // exact end time, whatever the sub-steps' round-off
-  Energy.time = Time;
-  Energy.lastStep = sum;
-  LastSubsteps = taken;
-  return Status::Ok();
+  st = singleStep(dt);
+  if (!st)
+    reconstruct(); // singleStep keeps q, q̇, time and energies; refresh the kinematics
+  return st;
 }
 
 Status SuperHelix::checkStep(double dt) const
@@ -882,34 +949,6 @@ Status SuperHelix::checkStep(double dt) const
     return Status::Error(s.str());
   }
   return Status::Ok();
-}
-
-double SuperHelix::stabilityLimit()
-{
-  if (!CurValid)
-    reconstruct();
-  // Stability sub-steps. The step is implicit in the elastic, friction and drag forces
-  // and linearized in the velocity-dependent ones, but the position dependence of the
-  // loads (gravity, root and centrifugal accelerations) stays explicit: a strand whose
-  // bending is weak against that load behaves like a chain whose pendulum modes, of
-  // angular frequency √(|g − a0| / ℓ), need h √(|g − a0| / ℓ) small. StabilityFactor 0.5
-  // was measured with margin (0.7 passed the 20 s head shake for every preset, 1.0 failed).
-  double load = 0;
-  for (const Node& nd : Cur.nodes)
-    load = std::max(load, (Spec.gravity - nd.a0).norm());
-  double shortest = Length;
-  for (double l : Spec.elementLengths)
-    shortest = std::min(shortest, l);
-  // The velocity-dependent forces are linearized, which leaves an error quadratic in the
-  // change of q̇ over the step; it stays small while no frame turns by more than about
-  // half a radian in one sub-step.
-  double spin = 0;
-  for (const Element& el : Cur.elements)
-    spin = std::max(spin, (el.omega0 - Cur.root.angularVelocity).norm());
-  spin = std::max(spin, (Cur.tip.omega0 - Cur.root.angularVelocity).norm());
-  const double hMax = StabilityFactor * std::min(std::sqrt(shortest / std::max(load, 1e-12)),
-                                                 1.0 / std::max(spin, 1e-12));
-  return hMax;
 }
 
 Status SuperHelix::stepCount(double dt, int count)
@@ -967,6 +1006,7 @@ Status SuperHelix::singleStep(double h)
     return Status::Error(where(t0, t1) + st.message());
   assemble();
   assembleVelocityJacobian();
+  assembleTensionStiffness(h);
   if (!finite(M) || !F.allFinite() || !finite(C))
     return Status::Error(
         where(t0, t1) +
@@ -1106,8 +1146,7 @@ Status SuperHelix::advance(double dt, double tolerance, int maxDepth)
     return st;
   // Step doubling: n sub-steps against 2n, on every element end, doubling n until they
   // agree within `tolerance`; the finer result is kept.
-  int n =
-      std::min(MaxSubsteps, std::max(1, static_cast<int>(std::ceil(dt / stabilityLimit() - 1e-9))));
+  int n = 1;
   const Eigen::VectorXd q0 = Q, qd0 = Qdot;
   const double t0 = Time;
   const EnergyReport en0 = Energy;
@@ -1131,7 +1170,7 @@ Status SuperHelix::advance(double dt, double tolerance, int maxDepth)
   std::vector<Eigen::Vector3d> prevEnds;
   if (prev)
     prevEnds = ends();
-  for (int depth = 0; depth < maxDepth; ++depth)
+  for (int depth = 0; depth < maxDepth && 2 * n <= MaxSubsteps; ++depth)
   {
     restore();
     n *= 2;

@@ -70,8 +70,8 @@ struct ContactResponse
 };
 
 /// Contact hook: given the samples at the start of a (sub-)step, write the response of each
-/// sample (the vector arrives sized and zeroed). Called once per sub-step (see
-/// SuperHelix::step) from the thread that steps this strand.
+/// sample (the vector arrives sized and zeroed). Called once per step (per sub-step of
+/// SuperHelix::advance) from the thread that steps this strand.
 using ContactForces =
     std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
                        std::vector<ContactResponse>& response)>;
@@ -110,9 +110,9 @@ public:
   /// natural shape at `time`. On error the strand is left as it was.
   Status initialize(const StrandSpec& spec, double time = 0);
 
-  /// One step of size dt [s] (semi-implicit, velocity terms linearized; see
-  /// docs/super-helix.md), split automatically into as many stability sub-steps as the
-  /// current load and spin need (lastSubsteps()). On error (bad dt, a root or force
+  /// One step of size dt [s], without sub-steps (linearly implicit in the elastic,
+  /// friction, drag and tension forces and in the velocity-dependent forces; see
+  /// docs/super-helix.md; dt = 1/30 s is stable). On error (bad dt, a root or force
   /// callback returning non-finite values, a step that blows up) the state is unchanged
   /// and the message names the strand and the time.
   Status step(double dt);
@@ -152,20 +152,24 @@ public:
   /// Quadrature samples for the current state.
   const std::vector<StrandSample>& samples() const;
 
-  /// The pieces of one sub-step, exposed for tests and for the benchmark's breakdown.
-  /// solve() uses the M, f and C assembled last for the current state.
+  /// The pieces of one step, exposed for tests and for the benchmark's breakdown.
+  /// solve() uses the M, f, C and K_T assembled last for the current state.
   void reconstruct();                                 ///< kinematics at every sample (time())
   void assemble();                                    ///< M and the explicit generalized force f
   void assembleVelocityJacobian();                    ///< C = ∂f/∂q̇ (after assemble)
+  void assembleTensionStiffness(double h);            ///< K_T for a step h (after assemble)
   Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
   const Eigen::MatrixXd& massMatrix() const { return M; }
   const Eigen::VectorXd& generalizedForce() const { return F; }
   const Eigen::MatrixXd& velocityJacobian() const { return C; }
-  /// Sub-steps the last step() took for stability (1 when the load is mild).
+  /// K_T, the tension part of the loads' stiffness −∂f/∂q, for a step of h (after
+  /// assembleTensionStiffness(h)): symmetric, positive semi-definite.
+  const Eigen::MatrixXd& tensionStiffness() const { return Kt; }
+  /// Sub-steps the last step or advance took: 1 for step(), more only when advance() was
+  /// asked for accuracy.
   int lastSubsteps() const { return LastSubsteps; }
 
-  /// h_max = StabilityFactor · min(√(ℓ_min / max |g − r̈₀|), 1 / max |ω − ω_root|).
-  static constexpr double StabilityFactor = 0.5;
+  /// Upper bound on the sub-steps of advance().
   static constexpr int MaxSubsteps = 256;
 
 private:
@@ -174,10 +178,13 @@ private:
     int element;
     double u, w;
     Eigen::Vector3d r, v, v0, a0, wind, contact;
+    Eigen::Vector3d load;               // explicit force per unit length (set by assemble())
     Eigen::Matrix3d contactK, contactD; // −∂f/∂x, −∂f/∂v per unit length (when hasK/hasD)
     bool hasK = false, hasD = false;
     Eigen::Vector3d jkd; // J k̇ of the own element (the point's velocity relative to its frame)
     Eigen::Matrix3d J;
+    Eigen::Matrix3d frame; // F(s) = F0 E(u)
+    Eigen::Matrix3d FG;    // F0 G(u): the frame's rotation per δk of the own element
     HelixCoefficients coefficients;
   };
   struct Element
@@ -206,7 +213,6 @@ private:
   Status singleStep(double h);
   Status stepCount(double dt, int count);
   Status checkStep(double dt) const;
-  double stabilityLimit(); ///< h_max for the current state (see step())
   double elasticEnergy(const Eigen::VectorXd& q) const;
   std::string where(double t0, double t1) const;
 
@@ -214,6 +220,7 @@ private:
   double Length = 0;
   double Time = 0;
   double RhoS = 0;
+  Eigen::Vector3d RotI = Eigen::Vector3d::Zero(); // ρ (I_p, I1, I2) per unit length
   Eigen::VectorXd Q, Qdot, Qrest, Kdiag, Gdiag, Starts;
   EnergyReport Energy;
   ContactForces Contacts;
@@ -223,7 +230,7 @@ private:
   Kinematics Cur, Next;
   bool CurValid = false;
   mutable std::vector<StrandSample> Samples;
-  Eigen::MatrixXd M, C, Lhs;
+  Eigen::MatrixXd M, C, Kt, Lhs;
   Eigen::VectorXd F, Rhs;
   std::vector<int> Pivots;                 // row interchanges of the unblocked LU of Lhs (small N)
   Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N

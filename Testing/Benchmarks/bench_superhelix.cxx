@@ -1,9 +1,9 @@
 // Cost of the Super-Helix step (docs/benchmarks-superhelix.md has the table and command).
-//   BM_Step/<preset>/<N>     one public step(1/30 s) of one 30 cm strand on a shaking head,
-//                            stability sub-steps included (counter "substeps")
-//   BM_Phase_*/<N>           the pieces of one sub-step: reconstruction (kinematics at
-//                            every sample), assembly of M and f, the velocity Jacobian C,
-//                            and the dense LU solve
+//   BM_Step/<preset>/<N>     one public step(1/30 s) of one 30 cm strand on a shaking head
+//                            (one linear solve; counter "substeps" must read 1)
+//   BM_Phase_*/<N>           the pieces of one step: reconstruction (kinematics at every
+//                            sample), assembly of M and f, the velocity Jacobian C, the
+//                            tension stiffness K_T, and the dense LU solve
 //   BM_StrandsPerSecond/<T>  256 strands of N = 10 stepped together on T threads
 #include "superhelix/SuperHelix.h"
 
@@ -91,16 +91,29 @@ void BM_Phase_VelocityJacobian(benchmark::State& state)
   }
 }
 
+void BM_Phase_TensionStiffness(benchmark::State& state)
+{
+  SuperHelix h = warmStrand(HairType::Wavy, static_cast<int>(state.range(0)));
+  h.reconstruct();
+  h.assemble();
+  for (auto _ : state)
+  {
+    h.assembleTensionStiffness(1.0 / 30);
+    benchmark::DoNotOptimize(h.tensionStiffness().data());
+  }
+}
+
 void BM_Phase_Solve(benchmark::State& state)
 {
   SuperHelix h = warmStrand(HairType::Wavy, static_cast<int>(state.range(0)));
   h.reconstruct();
   h.assemble();
   h.assembleVelocityJacobian();
+  h.assembleTensionStiffness(1.0 / 30);
   Eigen::VectorXd qd;
   for (auto _ : state)
   {
-    (void)h.solve(1.0 / 120, qd);
+    (void)h.solve(1.0 / 30, qd);
     benchmark::DoNotOptimize(qd.data());
   }
 }
@@ -144,6 +157,7 @@ BENCHMARK(BM_Step)->Apply(stepArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Phase_Reconstruct)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Phase_AssembleMassAndForce)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Phase_VelocityJacobian)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Phase_TensionStiffness)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Phase_Solve)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StrandsPerSecond)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -45,9 +46,10 @@ Eigen::Matrix3d hangingFrame()
 TEST(SuperHelixEnergy, ConservedUpToAFirstOrderResidual)
 {
   // No friction, no air, no wind, fixed root: a 30 cm horizontal strand falls under
-  // gravity. The step is first-order (backward Euler in the elastic force, explicit in
-  // the configuration dependence of the loads), so its energy error over a fixed time is
-  // O(dt): the residual must halve with dt.
+  // gravity. The step is first-order (backward Euler in the elastic force; the loads'
+  // configuration dependence explicit up to the tension an explicit step carries, which at
+  // these dt is all of it; velocity terms half implicit), so its energy error over a fixed
+  // time is O(dt): the residual must halve with dt.
   HairParameters p = HairParameters::preset(HairType::Smooth);
   p.curvatureVariation = 0;
   p.internalFriction = 0;
@@ -122,22 +124,23 @@ TEST(SuperHelixEnergy, BudgetClosesWithFrictionAirWindAndMovingRoot)
   EXPECT_LT(std::abs(residuals.back()), 0.05 * std::max(std::abs(rootWork), dissipated));
 }
 
-class SuperHelixPresetStability : public ::testing::TestWithParam<HairType>
+namespace
 {
-};
-
-TEST_P(SuperHelixPresetStability, HeadShakingAt3HzFor20s)
+// Issue 3: a strand of length L, N elements, rooted on a head turning ±30° at 3 Hz, stepped
+// with the public step(1/30 s) for `seconds`: every step succeeds without sub-steps
+// (lastSubsteps() == 1), stays finite, the mechanical energy stays bounded, and the
+// strand keeps its length. Returns the largest energy gain over the bound.
+double shakeAtOneThirtieth(HairType type, int n, double seconds)
 {
-  // Issue 3: 30 cm, N = 10, dt = 1/30 s, root on a head turning ±30° at 3 Hz, 20 s.
-  const HairParameters p = HairParameters::preset(GetParam());
+  const HairParameters p = HairParameters::preset(type);
   const double L = 0.3;
-  StrandSpec spec = StrandSpec::uniform(L, 10, p);
-  spec.name = toString(GetParam());
+  StrandSpec spec = StrandSpec::uniform(L, n, p);
+  spec.name = toString(type);
   HeadShake shake;
   shake.attachmentFrame = hangingFrame();
   spec.root = shake;
   SuperHelix h;
-  ASSERT_TRUE(h.initialize(spec).ok());
+  EXPECT_TRUE(h.initialize(spec).ok());
   const double m = p.linearDensity() * L;
   // Energy scale of the drive: the strand moving rigidly with the head's largest angular
   // speed at its farthest point. An instability grows exponentially and passes 100× that
@@ -147,55 +150,57 @@ TEST_P(SuperHelixPresetStability, HeadShakingAt3HzFor20s)
   const double bound = 100 * 0.5 * m * vRef * vRef + 2 * m * 9.81 * L;
   const double e0 = h.energy().mechanical();
   double eMax = 0;
-  int substeps = 0;
-  for (int i = 0; i < 600; ++i)
+  const int steps = static_cast<int>(std::lround(seconds * 30));
+  for (int i = 0; i < steps; ++i)
   {
     const Status st = h.step(1.0 / 30);
-    ASSERT_TRUE(st.ok()) << st.message();
-    substeps += h.lastSubsteps();
-    ASSERT_TRUE(h.q().allFinite() && h.qdot().allFinite());
+    EXPECT_TRUE(st.ok()) << toString(type) << " N = " << n << ": " << st.message();
+    if (!st)
+      return std::numeric_limits<double>::infinity();
+    EXPECT_EQ(h.lastSubsteps(), 1);
+    EXPECT_TRUE(h.q().allFinite() && h.qdot().allFinite());
     eMax = std::max(eMax, h.energy().mechanical() - e0);
   }
-  RecordProperty("max_energy_over_bound", sci(eMax / bound));
-  RecordProperty("substeps_per_step", sci(substeps / 600.0));
-  EXPECT_LT(eMax, bound);
+  EXPECT_LT(eMax, bound) << toString(type) << " N = " << n;
   // Length: the reconstruction is parametrized by arc length, so a fine polyline is
   // shorter than L only by the chord deficit, at most L (Ω h)² / 24 for h = ℓ / 4000.
   double omMax = 0;
-  for (int e = 0; e < 10; ++e)
+  for (int e = 0; e < n; ++e)
     omMax = std::max(omMax, h.q().segment<3>(3 * e).norm());
   std::vector<Eigen::Vector3d> pts;
   h.polyline(4000, pts);
   double len = 0;
   for (size_t i = 1; i < pts.size(); ++i)
     len += (pts[i] - pts[i - 1]).norm();
-  const double hseg = L / 10 / 4000;
+  const double hseg = L / n / 4000;
   const double deficit = L * std::pow(omMax * hseg, 2) / 24;
   EXPECT_LE(len, L * (1 + 1e-14));
   EXPECT_GE(len, L - 1.01 * deficit - 1e-14 * L) << "deficit bound " << deficit;
   EXPECT_DOUBLE_EQ(h.length(), L);
+  return eMax / bound;
+}
+} // namespace
+
+class SuperHelixPresetStability : public ::testing::TestWithParam<HairType>
+{
+};
+
+TEST_P(SuperHelixPresetStability, HeadShakingAt3HzFor20sWithoutSubsteps)
+{
+  // Issue 3: 30 cm, N = 10, dt = 1/30 s, 20 s, every preset, one linear solve per step.
+  RecordProperty("max_energy_over_bound", sci(shakeAtOneThirtieth(GetParam(), 10, 20)));
 }
 
-TEST(SuperHelixStability, OtherElementCountsOnTheShakingHead)
+TEST_P(SuperHelixPresetStability, CoarseStrandsFor120sWithoutSubsteps)
 {
-  // The weakest presets (smooth, wavy: gravity-dominated) at N = 1, 2, 3, 5, 20, same
-  // shake and dt as above: every step succeeds and stays finite (a blow-up fails the step).
-  for (HairType type : {HairType::Smooth, HairType::Wavy})
-    for (int n : {1, 2, 3, 5, 20})
-    {
-      StrandSpec spec = StrandSpec::uniform(0.3, n, HairParameters::preset(type));
-      HeadShake shake;
-      shake.attachmentFrame = hangingFrame();
-      spec.root = shake;
-      SuperHelix h;
-      ASSERT_TRUE(h.initialize(spec).ok());
-      for (int i = 0; i < 600; ++i)
-      {
-        const Status st = h.step(1.0 / 30);
-        ASSERT_TRUE(st.ok()) << toString(type) << " N = " << n << ": " << st.message();
-      }
-      EXPECT_TRUE(h.q().allFinite() && std::isfinite(h.energy().mechanical()));
-    }
+  // N = 1 and 3 for 120 s (smooth N = 1 used to refuse a step after 26–56 s of shaking),
+  // and N = 2, 5, 20 for 20 s.
+  for (int n : {1, 3})
+    RecordProperty("N" + std::to_string(n) + "_max_energy_over_bound",
+                   sci(shakeAtOneThirtieth(GetParam(), n, 120)));
+  for (int n : {2, 5, 20})
+    RecordProperty("N" + std::to_string(n) + "_max_energy_over_bound",
+                   sci(shakeAtOneThirtieth(GetParam(), n, 20)));
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, SuperHelixPresetStability,
