@@ -515,16 +515,16 @@ Status headOfHair(int count, double maxForce, int frames)
 }
 } // namespace
 
-TEST(HairHairContacts, CappedForceKeepsAHeadOfOverlappingGuidesSound)
+TEST(HairHairContacts, AHeadOfOverlappingGuidesRunsCappedAndUncapped)
 {
-  // The Super-Helix step picks its sub-steps from gravity and the root's acceleration, not
-  // from contact loads: uncapped, the deep initial overlaps of this head push with
-  // k δ ≈ 1e-3 N per contact point (30 × a strand's weight) and a strand's step fails
-  // within the first frames. With the default cap (1e-4 N) 3 s run through.
+  // The deep initial overlaps of this head push with k δ ≈ 1e-3 N per contact point (30 ×
+  // a strand's weight). With the sub-stepped Super-Helix step of the previous session an
+  // uncapped run failed within the first frames, hence the default cap (1e-4 N); the single
+  // step with implicit tension stiffness (docs/super-helix.md) runs both for 3 s.
   Status st = headOfHair(200, HairHairParameters().maxForce, 90);
   EXPECT_TRUE(st.ok()) << st.message();
   st = headOfHair(200, 1e3, 90);
-  EXPECT_FALSE(st.ok()) << "uncapped, the head was expected to fail (as measured)";
+  EXPECT_TRUE(st.ok()) << "uncapped: " << st.message();
 }
 
 namespace
