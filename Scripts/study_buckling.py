@@ -274,23 +274,24 @@ def clump(tool, outdir, quick):
     ax.plot(ref["time_s"], ref["span_m"] * 1e3, color="0.45", lw=1.2, ls="--",
             label=f"γ = {CLUMP_REFERENCE_GAMMA:.0e} kg·m³/s, no hair–hair contacts")
     ax.axvspan(start, t[-1], color="0.9", zorder=0)
-    ax.text(start / 2, 0.97, "squeezed: converging air flow\nramped up", ha="center", va="top",
-            fontsize=8, color="0.3", transform=ax.get_xaxis_transform())
-    ax.text((start + t[-1]) / 2, 0.97, "root disc oscillating vertically, "
-            f"{CLUMP_FREQUENCY:g} Hz (flow kept)", ha="center", va="top", fontsize=8,
+    ax.text(start / 2, 0.47, "squeezed: converging air flow\nramped up", ha="center",
+            va="center", fontsize=8, color="0.3", transform=ax.get_xaxis_transform())
+    ax.text((start + t[-1]) / 2, 0.47, "root disc oscillating vertically, 1 cm, "
+            f"{CLUMP_FREQUENCY:g} Hz (flow kept)", ha="center", va="center", fontsize=8,
             color="0.3", transform=ax.get_xaxis_transform())
     ax.set_ylabel("span ℓ_A of the tips (mm)")
-    ax.set_ylim(0, None)
+    ax.set_ylim(0, 1.4 * first["span_m"][0] * 1e3)  # room for the legend above the spans
     ax.grid(True, alpha=0.3)
     rx = ax.twinx()
     rx.plot(t, first["root_y_m"] * 1e3, color="tab:green", lw=0.8, alpha=0.8,
             label="root disc's vertical position (right axis)")
     rx.set_ylabel("root disc's vertical position (mm)", color="tab:green")
     rx.tick_params(axis="y", colors="tab:green")
-    rx.set_ylim(-40, 12)  # keeps the root's trace below the spans
+    rx.set_ylim(-12, 60)  # keeps the root's trace below the spans
+    rx.set_yticks([-10, -5, 0, 5, 10])
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = rx.get_legend_handles_labels()
-    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower left", ncol=2, framealpha=0.9)
+    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper right", ncol=2, framealpha=0.9)
     ax.set_title(f"Clump of {count} guides (30 cm, smooth, round), hair–hair contacts of "
                  f"thickness {CLUMP_THICKNESS * 1e3:g} mm, 4 contact updates per 1/30 s\n"
                  "span ℓ_A = largest horizontal distance between two tips, for several "
@@ -299,7 +300,8 @@ def clump(tool, outdir, quick):
     bx.text(0.01, 0.3 * 2 * CLUMP_THICKNESS * 1e3, " 30 % of the contact distance", fontsize=8,
             va="bottom", transform=bx.get_yaxis_transform())
     bx.axvspan(start, t[-1], color="0.9", zorder=0)
-    bx.set_ylabel("deepest overlap\nin the frame (mm)")
+    bx.set_ylabel("deepest overlap in the\nframe (mm; colours above)")
+    bx.set_ylim(0, 0.45 * 2 * CLUMP_THICKNESS * 1e3)
     bx.set_xlabel("time (s)")
     bx.grid(True, alpha=0.3)
     fig.tight_layout()
