@@ -144,7 +144,8 @@ if os.path.exists(csv_path):
 
 # --- clump part ------------------------------------------------------------------------------
 GAMMAS, R, COUNT = [5e-11, 1e-10, 2e-10, 5e-10], 1.2e-3, 20
-clump_csv, ref_csv = (os.path.join(out, n) for n in ("study_clump.csv", "study_clump_nocontact.csv"))
+clump_csv = os.path.join(out, "study_clump.csv")
+ref_csv = os.path.join(out, "study_clump_nocontact.csv")
 check(os.path.exists(clump_csv) and os.path.exists(ref_csv), "study_clump*.csv are written")
 if os.path.exists(clump_csv) and os.path.exists(ref_csv):
     c = np.genfromtxt(clump_csv, delimiter=",", names=True)
