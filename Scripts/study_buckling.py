@@ -1,6 +1,7 @@
-"""Study 3 of issue 6 (buckling): Euler buckling of a clamped-free Super-Helix column under a
-dead axial load at its tip, for several N. (The clump part of study 3, hair strands clumping
-under oscillation, is not here: see CLUMP PART below.)
+"""Study 3 of issue 6 (buckling), two parts: (1) Euler buckling of a clamped-free Super-Helix
+column under a dead axial load at its tip, for several N; (2) the clump: a clump of guides held
+apart by hair-hair contacts whose root disc oscillates vertically, for several internal
+frictions gamma (Super-Helices paper, Bertails et al. 2006, figs. 6-7), its span over time.
 
 Run: /usr/bin/python3 Scripts/study_buckling.py build/bin/hair_study <output dir> [--quick]
 
@@ -28,8 +29,16 @@ References drawn on the plot:
     P/P_cr = (2 K(m)/pi)^2, delta/L = 2 sqrt(m) / K(m), with K the complete elliptic integral
     of the first kind, m = sin^2(theta_tip/2).
 
+Clump part: `hair_study clump` (Tools/hair_study.cxx; 50 guides of 30 cm, 20 in --quick) is run
+for gamma = 5e-11, 1e-10, 2e-10, 5e-10 kg m^3/s with contacts, and once at 1e-10 without them.
+The clump is squeezed by an air flow converging on its axis (ramped over 3 s, 1.5 s quick), then
+its root disc oscillates vertically (1 cm, 3 Hz) until 6 s (3 s quick). Span l_A: the largest
+distance between two tips projected on the horizontal plane (docs/hair-analysis.md).
+
 Writes to the output dir: study_buckling.csv (hair_study's columns, all N), study_buckling.png
-(deflection against P/P_cr for several N; Southwell plot at N = 10) and study_buckling.txt.
+(deflection against P/P_cr for several N; Southwell plot at N = 10), study_clump.csv
+(hair_study clump's rows, with contacts; study_clump_nocontact.csv without), study_clump.png
+and study_buckling.txt (both parts' summaries).
 """
 import os
 
@@ -48,9 +57,11 @@ SOUTHWELL = (0.5, 0.95)  # load window of the Southwell fit, in units of the for
 REFERENCE_N = 10
 PCR_TOLERANCE = 0.05  # issue 6: P_cr within 5 % of the formula at N = 10
 
-# CLUMP PART: added when hair-hair contacts land. The second half of study 3 (a wisp of
-# strands under oscillation, clumping through hair-hair contact) needs the hair-hair
-# contacts being built now; it will be a second function here, writing study_clump.*.
+# Clump part (hair_study clump): see clump() below and docs/study-buckling.md.
+CLUMP_GAMMAS = [5e-11, 1e-10, 2e-10, 5e-10]  # kg m^3/s: the Super-Helices paper's range
+CLUMP_REFERENCE_GAMMA = 1e-10  # the run without hair-hair contacts (the reference)
+CLUMP_THICKNESS = 1.2e-3  # m: hair_study clump's default contact thickness
+CLUMP_FREQUENCY = 3.0  # Hz: hair_study clump's default root oscillation
 
 
 def ellipk(m):
@@ -213,8 +224,109 @@ def main():
                 i = int(np.argmin(np.abs(dd["load_ratio"] - r)))
                 parts.append(f"{r} P_cr: {dd['tip_y_m'][i] / LENGTH:.5f} vs {elastica(r):.5f}")
             lines.append(f"  N = {n:>2}: " + "; ".join(parts))
-    lines += ["", "clump part of study 3: added when hair-hair contacts land."]
+    lines += [""] + clump(tool, outdir, quick)
     studytool.write_summary(outdir, "study_buckling.txt", lines)
+
+
+def clump_metrics(d, start):
+    """Per-run numbers: initial span, mean span and its oscillation during the shaking (t >
+    start), smallest span / initial over the whole run, deepest overlap, 3 Hz component."""
+    t, span = d["time_s"], d["span_m"]
+    w = t > start + 1e-9
+    ts, ss = t[w], span[w]
+    # the span's response at the drive frequency: |(2/T) sum span(t) exp(-i w t) dt|
+    dt = np.diff(t).mean()
+    phase = np.exp(-2j * np.pi * CLUMP_FREQUENCY * ts)
+    harmonic = abs(2 * np.sum((ss - ss.mean()) * phase) * dt / (ts[-1] - ts[0] + dt))
+    return dict(initial=span[0], mean=ss.mean(), half_range=(ss.max() - ss.min()) / 2,
+                harmonic=harmonic, min_ratio=span.min() / span[0],
+                min_ratio_squeezed=span[(t >= start / 3) & (t <= start + 1e-9)].min() / span[0],
+                mean_radius=d["mean_radius_m"][w].mean(),
+                deepest=d["max_penetration_m"].max(), contacts=d["contacts"][w].mean())
+
+
+def clump(tool, outdir, quick):
+    """The clump part: runs hair_study clump, plots study_clump.png, returns summary lines."""
+    path = os.path.join(outdir, "study_clump.csv")
+    ref_path = os.path.join(outdir, "study_clump_nocontact.csv")
+    size = dict(quick=1) if quick else {}
+    studytool.run(tool, "clump", out=path, gammas=",".join(map(str, CLUMP_GAMMAS)), **size)
+    studytool.run(tool, "clump", out=ref_path, gammas=CLUMP_REFERENCE_GAMMA, contacts=0, **size)
+    rows, ref = studytool.read_csv(path), studytool.read_csv(ref_path)
+    runs = {g: {k: v[np.isclose(rows["gamma"], g, rtol=1e-6, atol=0)] for k, v in rows.items()}
+            for g in CLUMP_GAMMAS}
+    first = runs[CLUMP_GAMMAS[0]]
+    t = first["time_s"]
+    start = t[np.nonzero(np.abs(first["root_y_m"]) > 1e-9)[0][0] - 1]  # the oscillation starts
+    metrics = {g: clump_metrics(runs[g], start) for g in CLUMP_GAMMAS}
+    mref = clump_metrics(ref, start)
+    count = 20 if quick else 50
+
+    # --- plot ------------------------------------------------------------------------
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(11, 7.5), sharex=True,
+                                 gridspec_kw=dict(height_ratios=[2.2, 1]))
+    colours = plt.cm.plasma(np.linspace(0, 0.8, len(CLUMP_GAMMAS)))
+    for g, c in zip(CLUMP_GAMMAS, colours):
+        d = runs[g]
+        ax.plot(d["time_s"], d["span_m"] * 1e3, color=c, lw=1.4,
+                label=f"γ = {g:.0e} kg·m³/s, contacts")
+        bx.plot(d["time_s"], d["max_penetration_m"] * 1e3, color=c, lw=1)
+    ax.plot(ref["time_s"], ref["span_m"] * 1e3, color="0.45", lw=1.2, ls="--",
+            label=f"γ = {CLUMP_REFERENCE_GAMMA:.0e} kg·m³/s, no hair–hair contacts")
+    ax.axvspan(start, t[-1], color="0.9", zorder=0)
+    ax.text(start / 2, 0.47, "squeezed: converging air flow\nramped up", ha="center",
+            va="center", fontsize=8, color="0.3", transform=ax.get_xaxis_transform())
+    ax.text((start + t[-1]) / 2, 0.47, "root disc oscillating vertically, 1 cm, "
+            f"{CLUMP_FREQUENCY:g} Hz (flow kept)", ha="center", va="center", fontsize=8,
+            color="0.3", transform=ax.get_xaxis_transform())
+    ax.set_ylabel("span ℓ_A of the tips (mm)")
+    ax.set_ylim(0, 1.4 * first["span_m"][0] * 1e3)  # room for the legend above the spans
+    ax.grid(True, alpha=0.3)
+    rx = ax.twinx()
+    rx.plot(t, first["root_y_m"] * 1e3, color="tab:green", lw=0.8, alpha=0.8,
+            label="root disc's vertical position (right axis)")
+    rx.set_ylabel("root disc's vertical position (mm)", color="tab:green")
+    rx.tick_params(axis="y", colors="tab:green")
+    rx.set_ylim(-12, 60)  # keeps the root's trace below the spans
+    rx.set_yticks([-10, -5, 0, 5, 10])
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = rx.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper right", ncol=2, framealpha=0.9)
+    ax.set_title(f"Clump of {count} guides (30 cm, smooth, round), hair–hair contacts of "
+                 f"thickness {CLUMP_THICKNESS * 1e3:g} mm, 4 contact updates per 1/30 s\n"
+                 "span ℓ_A = largest horizontal distance between two tips, for several "
+                 "internal frictions γ")
+    bx.axhline(0.3 * 2 * CLUMP_THICKNESS * 1e3, color="k", lw=0.8, ls=":")
+    bx.text(0.01, 0.3 * 2 * CLUMP_THICKNESS * 1e3, " 30 % of the contact distance", fontsize=8,
+            va="bottom", transform=bx.get_yaxis_transform())
+    bx.axvspan(start, t[-1], color="0.9", zorder=0)
+    bx.set_ylabel("deepest overlap in the\nframe (mm; colours above)")
+    bx.set_ylim(0, 0.45 * 2 * CLUMP_THICKNESS * 1e3)
+    bx.set_xlabel("time (s)")
+    bx.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "study_clump.png"), dpi=110)
+
+    # --- summary ---------------------------------------------------------------------
+    lines = [f"Clump of {count} guides under a vertical root oscillation (1 cm, "
+             f"{CLUMP_FREQUENCY:g} Hz from t = {start:.3g} s to {t[-1]:.3g} s)"
+             + (" (quick)" if quick else ""),
+             "span l_A: largest horizontal distance between two tips; 'oscillation': t > "
+             f"{start:.3g} s; contact distance 2 x thickness = {2e3 * CLUMP_THICKNESS:g} mm", "",
+             f"{'gamma':>8}{'initial':>9}{'min/initial':>12}{'mean span':>11}{'half range':>11}"
+             f"{'3 Hz amp.':>10}{'mean radius':>12}{'contacts':>9}{'deepest':>9}",
+             f"{'kg m3/s':>8}{'mm':>9}{'squeezed':>12}{'osc., mm':>11}{'osc., mm':>11}"
+             f"{'mm':>10}{'osc., mm':>12}{'osc.':>9}{'mm':>9}"]
+
+    def row(name, m):
+        return (f"{name:>8}{m['initial'] * 1e3:>9.2f}{m['min_ratio_squeezed']:>12.3f}"
+                f"{m['mean'] * 1e3:>11.2f}{m['half_range'] * 1e3:>11.2f}"
+                f"{m['harmonic'] * 1e3:>10.2f}{m['mean_radius'] * 1e3:>12.2f}"
+                f"{m['contacts']:>9.0f}{m['deepest'] * 1e3:>9.3f}")
+    for g in CLUMP_GAMMAS:
+        lines.append(row(f"{g:.0e}", metrics[g]))
+    lines.append(row("no cont.", mref) + f"   (gamma {CLUMP_REFERENCE_GAMMA:.0e}, no contacts)")
+    return lines
 
 
 if __name__ == "__main__":

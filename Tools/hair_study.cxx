@@ -7,15 +7,20 @@
 //   hair_study release     out=<csv> [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]
 //   hair_study scene       out=<h5>  [strands=6] [n=10] [duration=1] [dt=1/30]
 //                          [model=super-helix|projective]
+//   hair_study clump       out=<csv> [quick=0|1] [strands=50] [duration=6] [ramp=3]
+//                          [updates=4] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
+//                          [contacts=1] [amplitude=0.01] [frequency=3]
 //
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
+#include "superhelix/HairHairContacts.h"
 #include "superhelix/SuperHelix.h"
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -521,15 +526,210 @@ int scene(const Arguments& args)
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------
+// Study 3, clump part: a clump of guides, squeezed by a converging air flow and held apart
+// by hair–hair contacts, whose root disc then oscillates vertically (Super-Helices paper,
+// Bertails et al. 2006, figs. 6–7), for several internal frictions γ.
+
+struct ClumpConfig
+{
+  int count = 50;
+  double rho0 = 0.012, length = 0.3;
+  double betaMax = 25, rampTime = 3;
+  double amplitude = 0.01, frequency = 3, startOscillation = 3, duration = 6;
+  double airFriction = 2e-4;
+  int updatesPerFrame = 4;
+  double frame = 1.0 / 30;
+  bool contacts = true; ///< false: the same run without hair–hair contacts (the reference)
+  HairHairParameters contact;
+};
+
+/// The root disc's vertical offset at time t (0 before the oscillation starts).
+double clumpRootOffset(const ClumpConfig& c, double t)
+{
+  return t > c.startOscillation
+             ? c.amplitude * std::sin(2 * M_PI * c.frequency * (t - c.startOscillation))
+             : 0.0;
+}
+
+/// One run at internal friction γ; writes its rows (gamma, time, …) to `out`.
+Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
+{
+  // Smooth, round, straight hair (the Euler–Bernoulli strand of the other studies) with the
+  // preset's internal friction replaced by γ and an air friction 20 × the preset's: the
+  // converging flow's grip, strong enough to gather the strands within the ramp.
+  HairParameters hair = roundHair(true);
+  hair.internalFriction = gamma;
+  hair.airFriction = c.airFriction;
+  std::vector<SuperHelix> strands(c.count);
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  Eigen::Matrix3d frame; // tangent −y (hanging), a right-handed frame
+  frame.col(0) = Eigen::Vector3d(0, -1, 0);
+  frame.col(1) = frame.col(0).unitOrthogonal();
+  frame.col(2) = frame.col(0).cross(frame.col(1));
+  for (int i = 0; i < c.count; ++i)
+  {
+    // Sunflower pattern: evenly spread roots on the disc of radius rho0.
+    const double rho = c.rho0 * std::sqrt((i + 0.5) / c.count), phi = i * golden;
+    const Eigen::Vector3d root(rho * std::cos(phi), 0, rho * std::sin(phi));
+    StrandSpec s = StrandSpec::uniform(c.length, 10, hair);
+    s.id = i;
+    s.name = "clump " + std::to_string(i);
+    const double a = c.amplitude, w = 2 * M_PI * c.frequency, t0 = c.startOscillation;
+    s.root = [=](double t)
+    {
+      RootState r;
+      r.orientation = frame;
+      r.position = root;
+      if (t > t0)
+      {
+        r.position.y() += a * std::sin(w * (t - t0));
+        r.velocity.y() = a * w * std::cos(w * (t - t0));
+        r.acceleration.y() = -a * w * w * std::sin(w * (t - t0));
+      }
+      return r;
+    };
+    // Air flow converging on the clump's axis, v = −β(t) (x, 0, z), β ramped to betaMax.
+    const double beta = c.betaMax, ramp = c.rampTime;
+    s.windField = [beta, ramp](const Eigen::Vector3d& x, double t)
+    {
+      const double b = beta * std::clamp(t / ramp, 0.0, 1.0);
+      return Eigen::Vector3d(-b * x.x(), 0, -b * x.z());
+    };
+    if (Status st = strands[i].initialize(s); !st)
+      return st;
+  }
+  HairHairContacts contacts;
+  if (Status st = contacts.setParameters(c.contact); !st)
+    return st;
+  if (c.contacts)
+    for (SuperHelix& h : strands)
+      h.setContactForces(contacts.hook());
+
+  double deepest = 0;
+  long lastContacts = 0;
+  auto record = [&]()
+  {
+    // Span ℓ_A as docs/hair-analysis.md defines it: the largest distance between two tips
+    // projected on the horizontal plane (vertical = +y); and the mean distance of the tips
+    // to the clump's axis (the vertical through the tips' centroid).
+    std::vector<Eigen::Vector2d> tips;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const SuperHelix& h : strands)
+    {
+      const Eigen::Vector3d p = h.position(c.length);
+      tips.emplace_back(p.x(), p.z());
+      centre += tips.back();
+    }
+    centre /= c.count;
+    double mean = 0, span = 0;
+    for (size_t i = 0; i < tips.size(); ++i)
+    {
+      mean += (tips[i] - centre).norm();
+      for (size_t j = 0; j < i; ++j)
+        span = std::max(span, (tips[i] - tips[j]).norm());
+    }
+    const double t = strands[0].time();
+    out << gamma << "," << t << "," << clumpRootOffset(c, t) << "," << span << "," << mean / c.count
+        << "," << lastContacts << "," << deepest << "\n";
+    deepest = 0;
+  };
+  record();
+  const long frames = std::lround(c.duration / c.frame);
+  for (long f = 0; f < frames; ++f)
+  {
+    // updatesPerFrame contact searches per frame, each followed by a step of frame / updates
+    // (docs/hair-hair-contacts.md: one update per 1/30 s lets pairs of the shaken clump go
+    // through each other; 4 keep them within 26 % of the contact distance).
+    double remaining = c.frame;
+    for (int u = 0; u < c.updatesPerFrame; ++u)
+    {
+      if (c.contacts)
+      {
+        if (Status st = contacts.update(strands); !st)
+          return st;
+        deepest = std::max(deepest, contacts.stats().maxPenetration);
+        lastContacts = contacts.stats().contacts;
+      }
+      const double h = u + 1 == c.updatesPerFrame ? remaining : c.frame / c.updatesPerFrame;
+      if (Status st = stepStrands(strands, h, 2); !st)
+      {
+        std::ostringstream m;
+        m << "gamma = " << gamma << " kg m^3/s, t = " << strands[0].time()
+          << " s: " << st.message();
+        return Status::Error(m.str());
+      }
+      remaining -= h;
+    }
+    record();
+  }
+  return Status::Ok();
+}
+
+int clump(const Arguments& args)
+{
+  int quick = 0, withContacts = 1;
+  ClumpConfig c;
+  std::vector<double> gammas;
+  std::ofstream out;
+  Status s = args.integer("quick", 0, 0, 1, quick);
+  // Quick (CI): 20 strands on a disc of the same density (ρ0 √(20/50)), the flow ramped over
+  // 1.5 s, the oscillation from 1.5 s to 3 s.
+  const int count = quick ? 20 : 50;
+  const double ramp = quick ? 1.5 : 3, duration = quick ? 3 : 6;
+  if (s)
+    s = args.integer("strands", count, 2, 2000, c.count);
+  if (s)
+    s = args.number("duration", duration, 1.0 / 30, 1000, c.duration);
+  if (s)
+    s = args.number("ramp", ramp, 1.0 / 30, 1000, c.rampTime);
+  if (s)
+    s = args.list("gammas", {5e-11, 1e-10, 2e-10, 5e-10}, 0, 1e-6, gammas);
+  if (s)
+    s = args.integer("updates", 4, 1, 64, c.updatesPerFrame);
+  if (s)
+    s = args.number("thickness", 1.2e-3, 1e-5, 0.1, c.contact.thickness);
+  if (s)
+    s = args.integer("contacts", 1, 0, 1, withContacts);
+  if (s)
+    s = args.number("amplitude", 0.01, 0, 1, c.amplitude);
+  if (s)
+    s = args.number("frequency", 3, 0, 100, c.frequency);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study clump: " << s.message() << "\n";
+    return 2;
+  }
+  c.rho0 = 0.012 * std::sqrt(c.count / 50.0); // 50 strands on 12 mm: the density of the test
+  c.startOscillation = c.rampTime;
+  c.contacts = withContacts == 1;
+  // Moving hair: coherence only adds candidates (docs/hair-hair-contacts.md), so it is off.
+  c.contact.margin = 0;
+  out << "gamma,time_s,root_y_m,span_m,mean_radius_m,contacts,max_penetration_m\n";
+  for (double g : gammas)
+    if (s = runClump(c, g, out); !s)
+    {
+      std::cerr << "hair_study clump: " << s.message() << "\n";
+      return 1;
+    }
+  return 0;
+}
+
 int usage()
 {
-  std::cerr << "usage: hair_study <convergence|buckling|release|scene> out=<file> [key=value ...]\n"
+  std::cerr << "usage: hair_study <convergence|buckling|release|scene|clump> out=<file> "
+               "[key=value ...]\n"
                "  convergence [ns=1,2,...,40] [length=0.1]\n"
                "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
                "              [dt=100] [maxsteps=20000] [tol=1e-13]\n"
                "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
                "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
-               "              (out=<file>.h5)\n";
+               "              (out=<file>.h5)\n"
+               "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
+               "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
+               "              [contacts=1] [amplitude=0.01] [frequency=3]\n";
   return 2;
 }
 
@@ -544,7 +744,11 @@ int main(int argc, char** argv)
       {{"convergence", {{"out", "ns", "length"}, convergence}},
        {"buckling", {{"out", "n", "loads", "tilt", "length", "dt", "maxsteps", "tol"}, buckling}},
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
-       {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}}};
+       {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
+       {"clump",
+        {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
+          "contacts", "amplitude", "frequency"},
+         clump}}};
   const auto it = studies.find(study);
   if (it == studies.end())
   {
