@@ -51,3 +51,32 @@ def write_summary(outdir, name, lines):
     with open(os.path.join(outdir, name), "w") as f:
         f.write(text)
     print(text, end="")
+
+
+# The perfect clamped–free elastica (Timoshenko & Gere, Theory of Elastic Stability, §2.7),
+# shared by the buckling study and its check.
+def ellipk(m):
+    """Complete elliptic integral of the first kind K(m) = pi / (2 AGM(1, sqrt(1 - m)))."""
+    a, b = 1.0, np.sqrt(1.0 - m)
+    while abs(a - b) > 1e-15 * a:
+        a, b = (a + b) / 2, np.sqrt(a * b)
+    return np.pi / (2 * a)
+
+
+def brentq(f, lo, hi):
+    """Root of f in [lo, hi] by bisection (f changes sign there), to 1e-15."""
+    flo = f(lo)
+    while hi - lo > 1e-15:
+        mid = (lo + hi) / 2
+        fm = f(mid)
+        if (fm > 0) == (flo > 0):
+            lo, flo = mid, fm
+        else:
+            hi = mid
+    return (lo + hi) / 2
+
+
+def elastica(ratio):
+    """Lateral tip deflection / L of the perfect clamped-free elastica at P/P_cr = ratio > 1."""
+    m = brentq(lambda m: (2 * ellipk(m) / np.pi) ** 2 - ratio, 0.0, 1 - 1e-12)
+    return 2 * np.sqrt(m) / ellipk(m)

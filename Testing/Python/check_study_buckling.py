@@ -85,30 +85,12 @@ def southwell(r, p, delta):
     return 1 / np.polyfit(delta[w], delta[w] / p[w], 1)[0]
 
 
-def ellipk(m):
-    """Complete elliptic integral of the first kind K(m) = pi / (2 AGM(1, sqrt(1 - m)))."""
-    a, b = 1.0, np.sqrt(1.0 - m)
-    while abs(a - b) > 1e-15 * a:
-        a, b = (a + b) / 2, np.sqrt(a * b)
-    return np.pi / (2 * a)
-
-
-def brentq(f, lo, hi):
-    """Root of f in [lo, hi] by bisection (f changes sign there), to 1e-15."""
-    flo = f(lo)
-    while hi - lo > 1e-15:
-        mid = (lo + hi) / 2
-        fm = f(mid)
-        if (fm > 0) == (flo > 0):
-            lo, flo = mid, fm
-        else:
-            hi = mid
-    return (lo + hi) / 2
+sys.path.insert(0, os.path.join(ROOT, "Scripts"))
+import studytool  # noqa: E402
 
 
 def elastica(r):
-    m = brentq(lambda m: (2 * ellipk(m) / np.pi) ** 2 - r, 0.0, 1 - 1e-12)
-    return 2 * np.sqrt(m) / ellipk(m) * L
+    return studytool.elastica(r) * L
 
 
 if os.path.exists(csv_path):
