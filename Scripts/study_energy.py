@@ -190,7 +190,7 @@ def plot_release(outdir, runs, rows, order):
     ax.loglog(h, 100 * c[-1] * (h / h[-1]) ** EXPECTED_ORDER, "k--", lw=1,
               label="reference slope 1")
     labels = {}
-    for r in rows:  # dt = 1/30 s takes 2 sub-steps: the same h as 1/60 s
+    for r in rows:  # sub-steps are labelled if a step ever takes more than one
         text = f"dt = 1/{r['rate']}" + (f" ({r['substeps']:.0f} sub-steps)" if r["substeps"] > 1.01 else "")
         key = round(r["h"], 12)
         labels[key] = (r, labels[key][1] + ", " + text if key in labels else text)
@@ -302,8 +302,7 @@ def main():
               "the step is first order in dt)",
               "'identity': max |stack - work - residual| / max |work|, the bookkeeping to round-off;",
               "the tolerance on the closure is the integrator's first-order error: it has no fixed",
-              "value, it must fall like h (at dt = 1/30 s the strand takes 2 stability sub-steps,",
-              "so 1/30 and 1/60 give the same h and the same closure).", "",
+              "value, it must fall like h (h = dt: the step takes no stability sub-steps).", "",
               "(b) " + ("demo scene" if not quick else "small scene (quick)")]
     for r in results:
         lines.append(f"  {r['label']} ({r['model']}, {r['strands']} strands, {r['t'][-1]:.2f} s): "
