@@ -1,5 +1,7 @@
 """pvbatch under MPI (2 ranks, --symmetric): Hair Simulation runs on rank 0 only, which
-holds every strand and writes the one state file; rank 1 holds none.
+holds every strand and writes the one state file; rank 1 holds none. Hair Analysis on top
+gives rank 0 one row per frame and rank 1 an empty table, without hanging in its loop over
+time.
 
 Run: mpirun -np 2 pvbatch --symmetric Testing/Python/mpi_hair_simulation.py <HairDynamics.so> <state.h5>
 """
@@ -7,7 +9,7 @@ import os
 import sys
 
 from paraview import servermanager
-from paraview.simple import LegacyVTKReader, LoadPlugin
+from paraview.simple import LegacyVTKReader, LoadPlugin, OutputPort
 
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 state = sys.argv[2]
@@ -22,12 +24,18 @@ lines = sim.GetClientSideObject().GetOutputDataObject(0).GetNumberOfLines()
 
 from mpi4py import MPI  # noqa: E402
 
+analysis = HairAnalysis(Input=sim, Energy=OutputPort(sim, 1))  # noqa: F821
+analysis.UpdatePipeline(0.2)
+rows = analysis.GetClientSideObject().GetOutputDataObject(0).GetNumberOfRows()
+
 counts = MPI.COMM_WORLD.allgather(lines)
-ok = counts == [10, 0]
+row_counts = MPI.COMM_WORLD.allgather(rows)
+ok = counts == [10, 0] and row_counts == [7, 0]
 if rank == 0:
     import h5py
     with h5py.File(state, "r", swmr=True) as f:
         ok = ok and f["time"].shape[0] == 7
-print(f"rank {rank}: {lines} strands; per rank {counts}; {'ok' if ok else 'WRONG'}")
+print(f"rank {rank}: {lines} strands; per rank {counts}; analysis rows per rank {row_counts}; "
+      f"{'ok' if ok else 'WRONG'}")
 if not ok:
     sys.exit(1)
