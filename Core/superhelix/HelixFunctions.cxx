@@ -71,7 +71,13 @@ HelixCoefficients helixCoefficients(double x)
     h.chi2 = horner(t.c[6], y);
     return h;
   }
-  const double s = std::sin(x), c = std::cos(x);
+  double s, c;
+#if defined(__GLIBC__)
+  ::sincos(x, &s, &c); // one call for both; glibc's sin and cos give the same values
+#else
+  s = std::sin(x);
+  c = std::cos(x);
+#endif
   const double x2 = x * x, x3 = x2 * x, x4 = x2 * x2;
   h.phi0 = s / x;
   h.phi1 = (1 - c) / x2;

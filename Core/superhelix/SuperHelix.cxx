@@ -85,6 +85,12 @@ EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Ei
   return r;
 }
 
+// Quadrature sub-intervals of an element of curvature k and length l.
+inline int subIntervals(const Eigen::Vector3d& k, double l)
+{
+  return std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
+}
+
 // Deterministic on every platform (std::uniform_real_distribution is not).
 double uniformSigned(std::mt19937& g)
 {
@@ -237,7 +243,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   out.time = time;
   out.elements.resize(n);
   if (withNodes)
-    out.nodes.clear();
+  {
+    // Size the samples once (the vector keeps its capacity from step to step, and most
+    // steps keep the count), then fill them in place.
+    size_t count = 0;
+    for (int e = 0; e < n; ++e)
+      count += GaussPoints *
+               static_cast<size_t>(subIntervals(q.segment<3>(3 * e), Spec.elementLengths[e]));
+    out.nodes.resize(count);
+  }
+  size_t next = 0;
   Eigen::Matrix3d Fr = root.orientation;
   Eigen::Vector3d r = root.position, om = root.angularVelocity, v = root.velocity;
   Eigen::Vector3d al = root.angularAcceleration, ac = root.acceleration;
@@ -256,7 +271,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.v0 = v;
     el.alpha0 = al;
     el.acc0 = ac;
-    el.first = static_cast<int>(out.nodes.size());
+    el.first = static_cast<int>(next);
     el.count = 0;
     if (withNodes)
     {
@@ -264,14 +279,13 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       // combinations (E, G are polynomials in K).
       const Eigen::Matrix3d K = skew(k);
       const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
-      const int nsub = std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
+      const int nsub = subIntervals(k, l);
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
       {
         for (int g = 0; g < GaussPoints; ++g)
         {
-          out.nodes.emplace_back();
-          Node& nd = out.nodes.back();
+          Node& nd = out.nodes[next++];
           nd.element = e;
           nd.u = hsub * (sI + GaussX[g]);
           nd.w = hsub * GaussW[g];
@@ -300,7 +314,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
         }
       }
-      el.count = static_cast<int>(out.nodes.size()) - el.first;
+      el.count = static_cast<int>(next) - el.first;
     }
     helixEnd(k, kd, l, he);
     const Eigen::Vector3d Fg = Fr * he.g;
