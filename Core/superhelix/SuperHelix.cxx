@@ -813,12 +813,21 @@ void SuperHelix::assembleVelocityJacobian()
     for (int p = 0; p < qe; ++p)
     {
       const Element& ep = k.elements[p];
-      C.block<3, 3>(3 * p, 3 * qe).noalias() = ep.A.transpose() * TM + ep.W.transpose() * TF;
+      // Through a fixed-size temporary: assigning the product expression to the block of
+      // the dynamic C went through a non-inlined per-coefficient evaluator.
+      Eigen::Matrix3d blk;
+      blk.noalias() = ep.A.transpose() * TM;
+      blk.noalias() += ep.W.transpose() * TF;
+      C.block<3, 3>(3 * p, 3 * qe) = blk;
     }
     for (int p = qe + 1; p < n; ++p)
     {
       const Map39& g = G[p];
-      C.block<3, 3>(3 * p, 3 * qe).noalias() = g.a * Dac + g.l * Dal + g.w * Dw;
+      Eigen::Matrix3d blk;
+      blk.noalias() = g.a * Dac;
+      blk.noalias() += g.l * Dal;
+      blk.noalias() += g.w * Dw;
+      C.block<3, 3>(3 * p, 3 * qe) = blk;
       if (p + 1 < n)
       {
         const Maps& m = maps[p];
