@@ -573,10 +573,18 @@ void SuperHelix::assemble()
     F.segment<3>(3 * e) = floc + el.A.transpose() * tailT + el.W.transpose() * tailF;
     const Eigen::Matrix3d C = skew(tailC);
     const Eigen::Matrix3d ThA = tailTheta * el.A;
-    M.block<3, 3>(3 * e, 3 * e) =
-        Mloc + el.A.transpose() * (ThA + C * el.W) + el.W.transpose() * (tailM * el.W - C * el.A);
-    U[e] = X + ThA + C * el.W;
-    V[e] = Y - C * el.A + tailM * el.W;
+    // The tail's parts of U and V, shared with the diagonal block (fixed-size temporaries:
+    // the nested product expression was evaluated coefficient by coefficient).
+    Eigen::Matrix3d TU = ThA, TV = tailM * el.W;
+    TU.noalias() += C * el.W;
+    TV.noalias() -= C * el.A;
+    Eigen::Matrix3d d = Mloc;
+    d.noalias() += el.A.transpose() * TU;
+    d.noalias() += el.W.transpose() * TV;
+    // Symmetric up to round-off: symmetrized exactly.
+    M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
+    U[e] = X + TU;
+    V[e] = Y + TV;
     tailF += eF;
     tailT += eT;
     tailM += eM;
@@ -591,12 +599,6 @@ void SuperHelix::assemble()
       M.block<3, 3>(3 * qq, 3 * p) = b;
       M.block<3, 3>(3 * p, 3 * qq) = b.transpose();
     }
-  // Symmetrize the diagonal blocks exactly (they are symmetric up to round-off).
-  for (int e = 0; e < n; ++e)
-  {
-    Eigen::Matrix3d d = M.block<3, 3>(3 * e, 3 * e);
-    M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
-  }
 }
 
 void SuperHelix::assembleTensionStiffness(double h)
