@@ -533,8 +533,9 @@ void SuperHelix::assemble()
     const Eigen::Matrix3d K = skew(Q.segment<3>(3 * e)), K2 = K * K;
     Eigen::Vector3d floc = Eigen::Vector3d::Zero(), eF = Eigen::Vector3d::Zero(),
                     eT = Eigen::Vector3d::Zero(), eC = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d eTheta = Eigen::Matrix3d::Zero();
-    double eM = 0;
+    Eigen::Matrix3d eTheta, eRR = Eigen::Matrix3d::Zero();
+    double eM = 0, eR2 = 0;
+    double sBB[3][3] = {}, sEB[3][3] = {}, sEE[3][3] = {};
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       Node& nd = k.nodes[j];
@@ -549,25 +550,67 @@ void SuperHelix::assemble()
       Y += wm * nd.J;
       eM += wm;
       eC += wm * nd.r;
-      eTheta += wm * (nd.r.squaredNorm() * Eigen::Matrix3d::Identity() - nd.r * nd.r.transpose());
+      eR2 += wm * nd.r.squaredNorm(); // Θ = Σ wm (|r|² I − r rᵀ), completed below
+      eRR.noalias() += (wm * nd.r) * nd.r.transpose();
       // Rotary inertia of the cross-section, I(s) = F diag(ρI_p, ρI1, ρI2) Fᵀ, about the
       // frame's angular velocity, whose Jacobian is A_P (P < e) and F0 G(u) (own element):
       // the same tail-sum structure as the translational second moment Θ.
       // In the sample's own frame: Fᵀ F0 G(u) = E(u)ᵀ G(u) = G(u) with −k (E and G commute),
       // so with B = G(−k, u) and D = w diag(ρI_p, ρI1, ρI2):
       // (F0G)ᵀ I F0G = Bᵀ D B, I F0G = F D B, I = F D Fᵀ.
+      // E and B are polynomials in K = [k]× with per-sample coefficients,
+      //   E = I + u φ0 K + u² φ1 K²,  B = u I − u² φ1 K + u³ φ2 K²,
+      // so only the weighted products of the coefficients are summed per sample; the
+      // matrices K^i D K^j are formed once per element, below.
       {
         const HelixCoefficients& c = nd.coefficients;
         const double u = nd.u, u2 = u * u;
-        Eigen::Matrix3d B = (-u2 * c.phi1) * K + (u2 * u * c.phi2) * K2;
-        B.diagonal().array() += u;
-        const Eigen::Vector3d d = nd.w * RotI;
-        const Eigen::Matrix3d DB = d.asDiagonal() * B;
-        const Eigen::Matrix3d FD = nd.frame * d.asDiagonal();
-        Mloc.noalias() += B.transpose() * DB;
-        X.noalias() += nd.frame * DB;
-        eTheta.noalias() += FD * nd.frame.transpose();
+        const double Ec[3] = {1, u * c.phi0, u2 * c.phi1};
+        const double Bc[3] = {u, -u2 * c.phi1, u2 * u * c.phi2};
+        for (int i = 0; i < 3; ++i)
+        {
+          const double wE = nd.w * Ec[i], wB = nd.w * Bc[i];
+          for (int jj = 0; jj < 3; ++jj)
+          {
+            sBB[i][jj] += wB * Bc[jj];
+            sEB[i][jj] += wE * Bc[jj];
+            sEE[i][jj] += wE * Ec[jj];
+          }
+        }
       }
+    }
+    {
+      // P_ij = K^i D K^j (D = diag(ρI_p, ρI1, ρI2)); (K^i)ᵀ = (−1)^i K^i:
+      //   Σ Bᵀ D B = Σ_ij sBB_ij (−1)^i P_ij,  Σ F D B = F0 Σ_ij sEB_ij P_ij,
+      //   Σ F D Fᵀ = F0 (Σ_ij sEE_ij (−1)^j P_ij) F0ᵀ.
+      // Σ_ij c_ij K^i D K^j = D Q_0 + K (D Q_1 + K D Q_2), Q_i = Σ_j c_ij K^j (Horner in K;
+      // K X by column cross products).
+      const Eigen::Vector3d k = Q.segment<3>(3 * e);
+      auto sum = [&](const double(&c)[3][3])
+      {
+        Eigen::Matrix3d DQ[3];
+        for (int i = 0; i < 3; ++i)
+        {
+          Eigen::Matrix3d Qi = c[i][1] * K + c[i][2] * K2;
+          Qi.diagonal().array() += c[i][0];
+          DQ[i] = RotI.asDiagonal() * Qi;
+        }
+        const Eigen::Matrix3d inner = DQ[1] + crossCols(k, DQ[2]);
+        return Eigen::Matrix3d(DQ[0] + crossCols(k, inner));
+      };
+      double cM[3][3], cT[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int jj = 0; jj < 3; ++jj)
+        {
+          cM[i][jj] = (i == 1 ? -1.0 : 1.0) * sBB[i][jj];
+          cT[i][jj] = (jj == 1 ? -1.0 : 1.0) * sEE[i][jj];
+        }
+      const Eigen::Matrix3d Ms = sum(cM), Xs = sum(sEB), Ts = sum(cT);
+      Mloc += Ms;
+      X.noalias() += el.F0 * Xs;
+      eTheta = -eRR;
+      eTheta.diagonal().array() += eR2;
+      eTheta.noalias() += el.F0 * Ts * el.F0.transpose();
     }
     // Generalized force of element e: own samples plus the rigid tail beyond it.
     F.segment<3>(3 * e) = floc + el.A.transpose() * tailT + el.W.transpose() * tailF;
