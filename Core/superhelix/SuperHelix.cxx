@@ -279,6 +279,8 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       // combinations (E, G are polynomials in K).
       const Eigen::Matrix3d K = skew(k);
       const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
+      const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
+      Eigen::Vector3d omLocal;
       const int nsub = subIntervals(k, l);
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
@@ -305,11 +307,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
             const HelixCoefficients& c = nd.coefficients;
             const double u = nd.u;
             const double u2 = u * u;
-            nd.frame = Fr + (u * c.phi0) * FK + (u2 * c.phi1) * FK2;
+            nd.n0 = Fr.col(0) + (u * c.phi0) * FK.col(0) + (u2 * c.phi1) * FK2.col(0);
             nd.FG = u * Fr + (u2 * c.phi1) * FK + (u2 * u * c.phi2) * FK2;
+            // Kinetic energy: centreline and the cross-section's rotation ω(s) = ω + F0 G k̇,
+            // in the sample's frame: E(u)ᵀ (F0ᵀ ω + G(u) k̇), with E(u)ᵀ = I − u φ0 K + u² φ1 K²
+            // and G(u) = u I + u² φ1 K + u³ φ2 K² (K y = k × y).
+            const Eigen::Vector3d y =
+                omF + u * kd + (u2 * c.phi1) * kxkd + (u2 * u * c.phi2) * kxkxkd;
+            const Eigen::Vector3d ky = k.cross(y);
+            omLocal = y - (u * c.phi0) * ky + (u2 * c.phi1) * k.cross(ky);
           }
-          // Kinetic energy: centreline and the cross-section's rotation, ω(s) = ω + F0 G k̇.
-          const Eigen::Vector3d omLocal = nd.frame.transpose() * (om + nd.FG * kd);
           kinetic += 0.5 * nd.w * (RhoS * nd.v.squaredNorm() + RotI.dot(omLocal.cwiseAbs2()));
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
         }
@@ -676,7 +683,7 @@ void SuperHelix::assembleTensionStiffness(double h)
       const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * nd.load;
       tailF += wf;
       beyond += nd.w;
-      const Eigen::Vector3d n0 = nd.frame.col(0);
+      const Eigen::Vector3d& n0 = nd.n0;
       const double T = n0.dot(atSample) - explicitTension;
       if (!(T > 0))
         continue;
