@@ -493,8 +493,6 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
       Node& nd = k.nodes[i];
       const ContactResponse& c = ContactBuffer[i];
       nd.contact = c.force;
-      nd.contactK = c.stiffness;
-      nd.contactD = c.damping;
       nd.hasK = !c.stiffness.isZero(0);
       nd.hasD = !c.damping.isZero(0);
       if (!c.stiffness.allFinite() || !c.damping.allFinite())
@@ -898,10 +896,14 @@ void SuperHelix::addContactJacobians(double h)
   // J of a sample in element e spans the columns of elements 0..e (O(e²) per sample in
   // contact; samples out of contact cost nothing).
   thread_local Eigen::Matrix3Xd J;
-  for (const Node& nd : Cur.nodes)
+  for (size_t j = 0; j < Cur.nodes.size(); ++j)
   {
+    const Node& nd = Cur.nodes[j];
     if (!nd.hasK && !nd.hasD)
       continue;
+    // K and D stay in the hook's buffer (hasK/hasD are set only from it, this step).
+    const Eigen::Matrix3d& contactK = ContactBuffer[j].stiffness;
+    const Eigen::Matrix3d& contactD = ContactBuffer[j].damping;
     const int e = nd.element;
     const int cols = 3 * (e + 1);
     J.resize(3, cols);
@@ -913,13 +915,13 @@ void SuperHelix::addContactJacobians(double h)
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     if (nd.hasK)
     {
-      S += h * h * nd.contactK;
-      b -= h * h * (nd.contactK * nd.v0);
+      S += h * h * contactK;
+      b -= h * h * (contactK * nd.v0);
     }
     if (nd.hasD)
     {
-      S += h * nd.contactD;
-      b += h * (nd.contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
+      S += h * contactD;
+      b += h * (contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
     }
     const Eigen::Matrix3Xd SJ = nd.w * (S * J);
     Lhs.topLeftCorner(cols, cols).noalias() += J.transpose() * SJ;
@@ -1167,9 +1169,9 @@ Status SuperHelix::singleStep(double h)
         // The contact force that acted: its implicit linearization (see ContactResponse).
         Eigen::Vector3d fc = nd.contact;
         if (nd.hasK)
-          fc -= h * (nd.contactK * vt);
+          fc -= h * (ContactBuffer[j].stiffness * vt);
         if (nd.hasD)
-          fc -= nd.contactD * (vt - nd.v);
+          fc -= ContactBuffer[j].damping * (vt - nd.v);
         flow.contactWork += h * nd.w * fc.dot(vt);
         const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
         flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
