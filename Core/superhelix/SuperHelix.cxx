@@ -60,6 +60,21 @@ inline void subtractScaled(double* __restrict y, const double* __restrict x, dou
     y[i] -= f * x[i];
 }
 
+// y_k −= f_k x over n entries for four distinct columns y_k.
+inline void subtractScaled4(double* __restrict y0, double* __restrict y1, double* __restrict y2,
+                            double* __restrict y3, const double* __restrict x, double f0, double f1,
+                            double f2, double f3, int n)
+{
+  for (int i = 0; i < n; ++i)
+  {
+    const double xi = x[i];
+    y0[i] -= f0 * xi;
+    y1[i] -= f1 * xi;
+    y2[i] -= f2 * xi;
+    y3[i] -= f3 * xi;
+  }
+}
+
 // [v]× m, column by column (cheaper than a 3 × 3 product with skew(v)).
 EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Eigen::Matrix3d& m)
 {
@@ -68,6 +83,12 @@ EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Ei
   r.col(1) = v.cross(m.col(1));
   r.col(2) = v.cross(m.col(2));
   return r;
+}
+
+// Quadrature sub-intervals of an element of curvature k and length l.
+inline int subIntervals(const Eigen::Vector3d& k, double l)
+{
+  return std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
 }
 
 // Deterministic on every platform (std::uniform_real_distribution is not).
@@ -222,7 +243,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   out.time = time;
   out.elements.resize(n);
   if (withNodes)
-    out.nodes.clear();
+  {
+    // Size the samples once (the vector keeps its capacity from step to step, and most
+    // steps keep the count), then fill them in place.
+    size_t count = 0;
+    for (int e = 0; e < n; ++e)
+      count += GaussPoints *
+               static_cast<size_t>(subIntervals(q.segment<3>(3 * e), Spec.elementLengths[e]));
+    out.nodes.resize(count);
+  }
+  size_t next = 0;
   Eigen::Matrix3d Fr = root.orientation;
   Eigen::Vector3d r = root.position, om = root.angularVelocity, v = root.velocity;
   Eigen::Vector3d al = root.angularAcceleration, ac = root.acceleration;
@@ -241,7 +271,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.v0 = v;
     el.alpha0 = al;
     el.acc0 = ac;
-    el.first = static_cast<int>(out.nodes.size());
+    el.first = static_cast<int>(next);
     el.count = 0;
     if (withNodes)
     {
@@ -249,14 +279,15 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       // combinations (E, G are polynomials in K).
       const Eigen::Matrix3d K = skew(k);
       const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
-      const int nsub = std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
+      const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
+      Eigen::Vector3d omLocal;
+      const int nsub = subIntervals(k, l);
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
       {
         for (int g = 0; g < GaussPoints; ++g)
         {
-          out.nodes.emplace_back();
-          Node& nd = out.nodes.back();
+          Node& nd = out.nodes[next++];
           nd.element = e;
           nd.u = hsub * (sI + GaussX[g]);
           nd.w = hsub * GaussW[g];
@@ -276,16 +307,21 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
             const HelixCoefficients& c = nd.coefficients;
             const double u = nd.u;
             const double u2 = u * u;
-            nd.frame = Fr + (u * c.phi0) * FK + (u2 * c.phi1) * FK2;
+            nd.n0 = Fr.col(0) + (u * c.phi0) * FK.col(0) + (u2 * c.phi1) * FK2.col(0);
             nd.FG = u * Fr + (u2 * c.phi1) * FK + (u2 * u * c.phi2) * FK2;
+            // Kinetic energy: centreline and the cross-section's rotation ω(s) = ω + F0 G k̇,
+            // in the sample's frame: E(u)ᵀ (F0ᵀ ω + G(u) k̇), with E(u)ᵀ = I − u φ0 K + u² φ1 K²
+            // and G(u) = u I + u² φ1 K + u³ φ2 K² (K y = k × y).
+            const Eigen::Vector3d y =
+                omF + u * kd + (u2 * c.phi1) * kxkd + (u2 * u * c.phi2) * kxkxkd;
+            const Eigen::Vector3d ky = k.cross(y);
+            omLocal = y - (u * c.phi0) * ky + (u2 * c.phi1) * k.cross(ky);
           }
-          // Kinetic energy: centreline and the cross-section's rotation, ω(s) = ω + F0 G k̇.
-          const Eigen::Vector3d omLocal = nd.frame.transpose() * (om + nd.FG * kd);
           kinetic += 0.5 * nd.w * (RhoS * nd.v.squaredNorm() + RotI.dot(omLocal.cwiseAbs2()));
           grav -= nd.w * RhoS * Spec.gravity.dot(nd.r);
         }
       }
-      el.count = static_cast<int>(out.nodes.size()) - el.first;
+      el.count = static_cast<int>(next) - el.first;
     }
     helixEnd(k, kd, l, he);
     const Eigen::Vector3d Fg = Fr * he.g;
@@ -457,8 +493,6 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
       Node& nd = k.nodes[i];
       const ContactResponse& c = ContactBuffer[i];
       nd.contact = c.force;
-      nd.contactK = c.stiffness;
-      nd.contactD = c.damping;
       nd.hasK = !c.stiffness.isZero(0);
       nd.hasD = !c.damping.isZero(0);
       if (!c.stiffness.allFinite() || !c.damping.allFinite())
@@ -504,8 +538,9 @@ void SuperHelix::assemble()
     const Eigen::Matrix3d K = skew(Q.segment<3>(3 * e)), K2 = K * K;
     Eigen::Vector3d floc = Eigen::Vector3d::Zero(), eF = Eigen::Vector3d::Zero(),
                     eT = Eigen::Vector3d::Zero(), eC = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d eTheta = Eigen::Matrix3d::Zero();
-    double eM = 0;
+    Eigen::Matrix3d eTheta, eRR = Eigen::Matrix3d::Zero();
+    double eM = 0, eR2 = 0;
+    double sBB[3][3] = {}, sEB[3][3] = {}, sEE[3][3] = {};
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       Node& nd = k.nodes[j];
@@ -520,34 +555,84 @@ void SuperHelix::assemble()
       Y += wm * nd.J;
       eM += wm;
       eC += wm * nd.r;
-      eTheta += wm * (nd.r.squaredNorm() * Eigen::Matrix3d::Identity() - nd.r * nd.r.transpose());
+      eR2 += wm * nd.r.squaredNorm(); // Θ = Σ wm (|r|² I − r rᵀ), completed below
+      eRR.noalias() += (wm * nd.r) * nd.r.transpose();
       // Rotary inertia of the cross-section, I(s) = F diag(ρI_p, ρI1, ρI2) Fᵀ, about the
       // frame's angular velocity, whose Jacobian is A_P (P < e) and F0 G(u) (own element):
       // the same tail-sum structure as the translational second moment Θ.
       // In the sample's own frame: Fᵀ F0 G(u) = E(u)ᵀ G(u) = G(u) with −k (E and G commute),
       // so with B = G(−k, u) and D = w diag(ρI_p, ρI1, ρI2):
       // (F0G)ᵀ I F0G = Bᵀ D B, I F0G = F D B, I = F D Fᵀ.
+      // E and B are polynomials in K = [k]× with per-sample coefficients,
+      //   E = I + u φ0 K + u² φ1 K²,  B = u I − u² φ1 K + u³ φ2 K²,
+      // so only the weighted products of the coefficients are summed per sample; the
+      // matrices K^i D K^j are formed once per element, below.
       {
         const HelixCoefficients& c = nd.coefficients;
         const double u = nd.u, u2 = u * u;
-        Eigen::Matrix3d B = (-u2 * c.phi1) * K + (u2 * u * c.phi2) * K2;
-        B.diagonal().array() += u;
-        const Eigen::Vector3d d = nd.w * RotI;
-        const Eigen::Matrix3d DB = d.asDiagonal() * B;
-        const Eigen::Matrix3d FD = nd.frame * d.asDiagonal();
-        Mloc.noalias() += B.transpose() * DB;
-        X.noalias() += nd.frame * DB;
-        eTheta.noalias() += FD * nd.frame.transpose();
+        const double Ec[3] = {1, u * c.phi0, u2 * c.phi1};
+        const double Bc[3] = {u, -u2 * c.phi1, u2 * u * c.phi2};
+        for (int i = 0; i < 3; ++i)
+        {
+          const double wE = nd.w * Ec[i], wB = nd.w * Bc[i];
+          for (int jj = 0; jj < 3; ++jj)
+          {
+            sBB[i][jj] += wB * Bc[jj];
+            sEB[i][jj] += wE * Bc[jj];
+            sEE[i][jj] += wE * Ec[jj];
+          }
+        }
       }
+    }
+    {
+      // P_ij = K^i D K^j (D = diag(ρI_p, ρI1, ρI2)); (K^i)ᵀ = (−1)^i K^i:
+      //   Σ Bᵀ D B = Σ_ij sBB_ij (−1)^i P_ij,  Σ F D B = F0 Σ_ij sEB_ij P_ij,
+      //   Σ F D Fᵀ = F0 (Σ_ij sEE_ij (−1)^j P_ij) F0ᵀ.
+      // Σ_ij c_ij K^i D K^j = D Q_0 + K (D Q_1 + K D Q_2), Q_i = Σ_j c_ij K^j (Horner in K;
+      // K X by column cross products).
+      const Eigen::Vector3d k = Q.segment<3>(3 * e);
+      auto sum = [&](const double(&c)[3][3])
+      {
+        Eigen::Matrix3d DQ[3];
+        for (int i = 0; i < 3; ++i)
+        {
+          Eigen::Matrix3d Qi = c[i][1] * K + c[i][2] * K2;
+          Qi.diagonal().array() += c[i][0];
+          DQ[i] = RotI.asDiagonal() * Qi;
+        }
+        const Eigen::Matrix3d inner = DQ[1] + crossCols(k, DQ[2]);
+        return Eigen::Matrix3d(DQ[0] + crossCols(k, inner));
+      };
+      double cM[3][3], cT[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int jj = 0; jj < 3; ++jj)
+        {
+          cM[i][jj] = (i == 1 ? -1.0 : 1.0) * sBB[i][jj];
+          cT[i][jj] = (jj == 1 ? -1.0 : 1.0) * sEE[i][jj];
+        }
+      const Eigen::Matrix3d Ms = sum(cM), Xs = sum(sEB), Ts = sum(cT);
+      Mloc += Ms;
+      X.noalias() += el.F0 * Xs;
+      eTheta = -eRR;
+      eTheta.diagonal().array() += eR2;
+      eTheta.noalias() += el.F0 * Ts * el.F0.transpose();
     }
     // Generalized force of element e: own samples plus the rigid tail beyond it.
     F.segment<3>(3 * e) = floc + el.A.transpose() * tailT + el.W.transpose() * tailF;
     const Eigen::Matrix3d C = skew(tailC);
     const Eigen::Matrix3d ThA = tailTheta * el.A;
-    M.block<3, 3>(3 * e, 3 * e) =
-        Mloc + el.A.transpose() * (ThA + C * el.W) + el.W.transpose() * (tailM * el.W - C * el.A);
-    U[e] = X + ThA + C * el.W;
-    V[e] = Y - C * el.A + tailM * el.W;
+    // The tail's parts of U and V, shared with the diagonal block (fixed-size temporaries:
+    // the nested product expression was evaluated coefficient by coefficient).
+    Eigen::Matrix3d TU = ThA, TV = tailM * el.W;
+    TU.noalias() += C * el.W;
+    TV.noalias() -= C * el.A;
+    Eigen::Matrix3d d = Mloc;
+    d.noalias() += el.A.transpose() * TU;
+    d.noalias() += el.W.transpose() * TV;
+    // Symmetric up to round-off: symmetrized exactly.
+    M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
+    U[e] = X + TU;
+    V[e] = Y + TV;
     tailF += eF;
     tailT += eT;
     tailM += eM;
@@ -562,12 +647,6 @@ void SuperHelix::assemble()
       M.block<3, 3>(3 * qq, 3 * p) = b;
       M.block<3, 3>(3 * p, 3 * qq) = b.transpose();
     }
-  // Symmetrize the diagonal blocks exactly (they are symmetric up to round-off).
-  for (int e = 0; e < n; ++e)
-  {
-    Eigen::Matrix3d d = M.block<3, 3>(3 * e, 3 * e);
-    M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
-  }
 }
 
 void SuperHelix::assembleTensionStiffness(double h)
@@ -602,7 +681,7 @@ void SuperHelix::assembleTensionStiffness(double h)
       const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * nd.load;
       tailF += wf;
       beyond += nd.w;
-      const Eigen::Vector3d n0 = nd.frame.col(0);
+      const Eigen::Vector3d& n0 = nd.n0;
       const double T = n0.dot(atSample) - explicitTension;
       if (!(T > 0))
         continue;
@@ -784,12 +863,21 @@ void SuperHelix::assembleVelocityJacobian()
     for (int p = 0; p < qe; ++p)
     {
       const Element& ep = k.elements[p];
-      C.block<3, 3>(3 * p, 3 * qe).noalias() = ep.A.transpose() * TM + ep.W.transpose() * TF;
+      // Through a fixed-size temporary: assigning the product expression to the block of
+      // the dynamic C went through a non-inlined per-coefficient evaluator.
+      Eigen::Matrix3d blk;
+      blk.noalias() = ep.A.transpose() * TM;
+      blk.noalias() += ep.W.transpose() * TF;
+      C.block<3, 3>(3 * p, 3 * qe) = blk;
     }
     for (int p = qe + 1; p < n; ++p)
     {
       const Map39& g = G[p];
-      C.block<3, 3>(3 * p, 3 * qe).noalias() = g.a * Dac + g.l * Dal + g.w * Dw;
+      Eigen::Matrix3d blk;
+      blk.noalias() = g.a * Dac;
+      blk.noalias() += g.l * Dal;
+      blk.noalias() += g.w * Dw;
+      C.block<3, 3>(3 * p, 3 * qe) = blk;
       if (p + 1 < n)
       {
         const Maps& m = maps[p];
@@ -808,10 +896,14 @@ void SuperHelix::addContactJacobians(double h)
   // J of a sample in element e spans the columns of elements 0..e (O(e²) per sample in
   // contact; samples out of contact cost nothing).
   thread_local Eigen::Matrix3Xd J;
-  for (const Node& nd : Cur.nodes)
+  for (size_t j = 0; j < Cur.nodes.size(); ++j)
   {
+    const Node& nd = Cur.nodes[j];
     if (!nd.hasK && !nd.hasD)
       continue;
+    // K and D stay in the hook's buffer (hasK/hasD are set only from it, this step).
+    const Eigen::Matrix3d& contactK = ContactBuffer[j].stiffness;
+    const Eigen::Matrix3d& contactD = ContactBuffer[j].damping;
     const int e = nd.element;
     const int cols = 3 * (e + 1);
     J.resize(3, cols);
@@ -823,13 +915,13 @@ void SuperHelix::addContactJacobians(double h)
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     if (nd.hasK)
     {
-      S += h * h * nd.contactK;
-      b -= h * h * (nd.contactK * nd.v0);
+      S += h * h * contactK;
+      b -= h * h * (contactK * nd.v0);
     }
     if (nd.hasD)
     {
-      S += h * nd.contactD;
-      b += h * (nd.contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
+      S += h * contactD;
+      b += h * (contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
     }
     const Eigen::Matrix3Xd SJ = nd.w * (S * J);
     Lhs.topLeftCorner(cols, cols).noalias() += J.transpose() * SJ;
@@ -897,12 +989,25 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
     const double inv = 1.0 / col[c];
     for (int i = c + 1; i < m; ++i)
       col[i] *= inv;
-    for (int j = c + 1; j < m; ++j)
+    // Trailing update, four columns per pass over the pivot column (the same operations
+    // y −= f x per entry; a pass per column spent most of its time in loop overhead).
+    int j = c + 1;
+    const int len = m - c - 1;
+    for (; j + 4 <= m; j += 4)
+    {
+      double* c0 = a + static_cast<std::ptrdiff_t>(j) * m;
+      double* c1 = c0 + m;
+      double* c2 = c1 + m;
+      double* c3 = c2 + m;
+      subtractScaled4(c0 + c + 1, c1 + c + 1, c2 + c + 1, c3 + c + 1, col + c + 1, c0[c], c1[c],
+                      c2[c], c3[c], len);
+    }
+    for (; j < m; ++j)
     {
       double* cj = a + static_cast<std::ptrdiff_t>(j) * m;
       const double f = cj[c];
       if (f != 0)
-        subtractScaled(cj + c + 1, col + c + 1, f, m - c - 1);
+        subtractScaled(cj + c + 1, col + c + 1, f, len);
     }
   }
   if (!(pivot > 1e-30 * scale))
@@ -1064,9 +1169,9 @@ Status SuperHelix::singleStep(double h)
         // The contact force that acted: its implicit linearization (see ContactResponse).
         Eigen::Vector3d fc = nd.contact;
         if (nd.hasK)
-          fc -= h * (nd.contactK * vt);
+          fc -= h * (ContactBuffer[j].stiffness * vt);
         if (nd.hasD)
-          fc -= nd.contactD * (vt - nd.v);
+          fc -= ContactBuffer[j].damping * (vt - nd.v);
         flow.contactWork += h * nd.w * fc.dot(vt);
         const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
         flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);

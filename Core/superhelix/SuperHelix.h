@@ -178,13 +178,14 @@ private:
     int element;
     double u, w;
     Eigen::Vector3d r, v, v0, a0, wind, contact;
-    Eigen::Vector3d load;               // explicit force per unit length (set by assemble())
-    Eigen::Matrix3d contactK, contactD; // −∂f/∂x, −∂f/∂v per unit length (when hasK/hasD)
+    Eigen::Vector3d load; // explicit force per unit length (set by assemble())
+    // The contact's −∂f/∂x, −∂f/∂v are non-zero (they stay in ContactBuffer, same index;
+    // kept out of the sample, which the step streams through several times).
     bool hasK = false, hasD = false;
     Eigen::Vector3d jkd; // J k̇ of the own element (the point's velocity relative to its frame)
     Eigen::Matrix3d J;
-    Eigen::Matrix3d frame; // F(s) = F0 E(u)
-    Eigen::Matrix3d FG;    // F0 G(u): the frame's rotation per δk of the own element
+    Eigen::Vector3d n0; // tangent, the first column of the frame F(s) = F0 E(u)
+    Eigen::Matrix3d FG; // F0 G(u): the frame's rotation per δk of the own element
     HelixCoefficients coefficients;
   };
   struct Element
