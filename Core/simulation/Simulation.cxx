@@ -69,6 +69,25 @@ Eigen::Isometry3d HeadMotion::pose(double t) const
   return p;
 }
 
+RootMotion HeadMotion::carriedRoot(const Eigen::Vector3d& root, const Eigen::Matrix3d& frame) const
+{
+  const HeadMotion motion = *this;
+  return [root, frame, motion](double t)
+  {
+    RootState s;
+    const Eigen::Isometry3d pose = motion.pose(t);
+    Eigen::Vector3d v0, w, a0, al;
+    motion.rates(t, v0, w, a0, al);
+    s.position = pose * root;
+    s.orientation = pose.linear() * frame;
+    s.angularVelocity = w;
+    s.angularAcceleration = al;
+    s.velocity = v0 + w.cross(s.position);
+    s.acceleration = a0 + al.cross(s.position) + w.cross(w.cross(s.position));
+    return s;
+  };
+}
+
 void HeadMotion::rates(double t, Eigen::Vector3d& v0, Eigen::Vector3d& omega, Eigen::Vector3d& a0,
                        Eigen::Vector3d& alpha) const
 {
@@ -446,23 +465,7 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
       spec.seed = g.seed + static_cast<std::uint32_t>(k);
       spec.gravity = options.gravity;
       spec.wind = options.wind;
-      const Eigen::Vector3d x0 = g.root;
-      const Eigen::Matrix3d f0 = rootFrame(g);
-      const HeadMotion motion = options.motion;
-      spec.root = [x0, f0, motion](double t)
-      {
-        RootState s;
-        const Eigen::Isometry3d pose = motion.pose(t);
-        Eigen::Vector3d v0, w, a0, al;
-        motion.rates(t, v0, w, a0, al);
-        s.position = pose * x0;
-        s.orientation = pose.linear() * f0;
-        s.angularVelocity = w;
-        s.angularAcceleration = al;
-        s.velocity = v0 + w.cross(s.position);
-        s.acceleration = a0 + al.cross(s.position) + w.cross(w.cross(s.position));
-        return s;
-      };
+      spec.root = options.motion.carriedRoot(g.root, rootFrame(g));
       if (Status s = r->Helices[k].initialize(spec, 0.0); !s)
       {
         return s;

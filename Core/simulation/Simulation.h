@@ -10,6 +10,7 @@
 #include "superhelix/BodyContacts.h"
 #include "superhelix/HairHairContacts.h"
 #include "superhelix/HairParameters.h"
+#include "superhelix/RootMotion.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -64,6 +65,9 @@ struct HeadMotion
   /// analytic: returns (v0, ω, a0, α) about the world origin.
   void rates(double t, Eigen::Vector3d& v0, Eigen::Vector3d& omega, Eigen::Vector3d& a0,
              Eigen::Vector3d& alpha) const;
+  /// A root carried rigidly by the head, at `root` with frame `frame` (columns: tangent,
+  /// then the two normals) when the head is at rest: its state at any time, analytic.
+  RootMotion carriedRoot(const Eigen::Vector3d& root, const Eigen::Matrix3d& frame) const;
 };
 
 struct SimulationPart

@@ -81,22 +81,7 @@ Scene& scene(int guides)
     f0.col(0) = (0.65 * n + 0.35 * comb).normalized();
     f0.col(1) = (n - n.dot(f0.col(0)) * f0.col(0)).normalized();
     f0.col(2) = f0.col(0).cross(f0.col(1));
-    const Eigen::Vector3d x0 = roots[k].position;
-    const HeadMotion m = s->motion;
-    spec.root = [x0, f0, m](double t)
-    {
-      RootState r;
-      const Eigen::Isometry3d pose = m.pose(t);
-      Eigen::Vector3d v0, w, a0, al;
-      m.rates(t, v0, w, a0, al);
-      r.position = pose * x0;
-      r.orientation = pose.linear() * f0;
-      r.angularVelocity = w;
-      r.angularAcceleration = al;
-      r.velocity = v0 + w.cross(r.position);
-      r.acceleration = a0 + al.cross(r.position) + w.cross(w.cross(r.position));
-      return r;
-    };
+    spec.root = s->motion.carriedRoot(roots[k].position, f0);
     (void)s->strands[k].initialize(spec);
     s->strands[k].setContactForces(s->hook());
   }
