@@ -15,6 +15,7 @@
 // argument and what to do, exit status 2; a failed computation: exit status 1.
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
+#include "superhelix/ClumpScene.h"
 #include "superhelix/HairHairContacts.h"
 #include "superhelix/SuperHelix.h"
 
@@ -544,61 +545,27 @@ struct ClumpConfig
   HairHairParameters contact;
 };
 
-/// The root disc's vertical offset at time t (0 before the oscillation starts).
-double clumpRootOffset(const ClumpConfig& c, double t)
-{
-  return t > c.startOscillation
-             ? c.amplitude * std::sin(2 * M_PI * c.frequency * (t - c.startOscillation))
-             : 0.0;
-}
-
 /// One run at internal friction γ; writes its rows (gamma, time, …) to `out`.
 Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
 {
   // Smooth, round, straight hair (the Euler–Bernoulli strand of the other studies) with the
   // preset's internal friction replaced by γ and an air friction 20 × the preset's: the
   // converging flow's grip, strong enough to gather the strands within the ramp.
-  HairParameters hair = roundHair(true);
-  hair.internalFriction = gamma;
-  hair.airFriction = c.airFriction;
-  std::vector<SuperHelix> strands(c.count);
-  const double golden = M_PI * (3 - std::sqrt(5.0));
-  Eigen::Matrix3d frame; // tangent −y (hanging), a right-handed frame
-  frame.col(0) = Eigen::Vector3d(0, -1, 0);
-  frame.col(1) = frame.col(0).unitOrthogonal();
-  frame.col(2) = frame.col(0).cross(frame.col(1));
-  for (int i = 0; i < c.count; ++i)
-  {
-    // Sunflower pattern: evenly spread roots on the disc of radius rho0.
-    const double rho = c.rho0 * std::sqrt((i + 0.5) / c.count), phi = i * golden;
-    const Eigen::Vector3d root(rho * std::cos(phi), 0, rho * std::sin(phi));
-    StrandSpec s = StrandSpec::uniform(c.length, 10, hair);
-    s.id = i;
-    s.name = "clump " + std::to_string(i);
-    const double a = c.amplitude, w = 2 * M_PI * c.frequency, t0 = c.startOscillation;
-    s.root = [=](double t)
-    {
-      RootState r;
-      r.orientation = frame;
-      r.position = root;
-      if (t > t0)
-      {
-        r.position.y() += a * std::sin(w * (t - t0));
-        r.velocity.y() = a * w * std::cos(w * (t - t0));
-        r.acceleration.y() = -a * w * w * std::sin(w * (t - t0));
-      }
-      return r;
-    };
-    // Air flow converging on the clump's axis, v = −β(t) (x, 0, z), β ramped to betaMax.
-    const double beta = c.betaMax, ramp = c.rampTime;
-    s.windField = [beta, ramp](const Eigen::Vector3d& x, double t)
-    {
-      const double b = beta * std::clamp(t / ramp, 0.0, 1.0);
-      return Eigen::Vector3d(-b * x.x(), 0, -b * x.z());
-    };
-    if (Status st = strands[i].initialize(s); !st)
-      return st;
-  }
+  ClumpSpec spec;
+  spec.hair = roundHair(true);
+  spec.hair.internalFriction = gamma;
+  spec.hair.airFriction = c.airFriction;
+  spec.count = c.count;
+  spec.discRadius = c.rho0;
+  spec.length = c.length;
+  spec.flowRate = c.betaMax;
+  spec.rampTime = c.rampTime;
+  spec.amplitude = c.amplitude;
+  spec.frequency = c.frequency;
+  spec.startOscillation = c.startOscillation;
+  std::vector<SuperHelix> strands;
+  if (Status st = initializeClump(spec, strands); !st)
+    return st;
   HairHairContacts contacts;
   if (Status st = contacts.setParameters(c.contact); !st)
     return st;
@@ -630,8 +597,8 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
         span = std::max(span, (tips[i] - tips[j]).norm());
     }
     const double t = strands[0].time();
-    out << gamma << "," << t << "," << clumpRootOffset(c, t) << "," << span << "," << mean / c.count
-        << "," << lastContacts << "," << deepest << "\n";
+    out << gamma << "," << t << "," << clumpRootOffset(spec, t) << "," << span << ","
+        << mean / c.count << "," << lastContacts << "," << deepest << "\n";
     deepest = 0;
   };
   record();

@@ -3,6 +3,7 @@
 // References: brute-force O(n²) search for the broad phase; Newton's third law for the pair
 // forces; the strands' own energy budget (docs/super-helix.md) for the contact work; the
 // static penetration of a penalty, load / stiffness.
+#include "superhelix/ClumpScene.h"
 #include "superhelix/HairHairContacts.h"
 
 #include <gtest/gtest.h>
@@ -561,44 +562,22 @@ struct ClumpRun
 
 Status runClump(const ClumpSetup& c, ClumpRun& out)
 {
-  HairParameters hair = smoothHair();
+  ClumpSpec spec;
+  spec.hair = smoothHair();
   if (c.internalFriction >= 0)
-    hair.internalFriction = c.internalFriction;
-  hair.airFriction = c.airFriction;
-  std::vector<SuperHelix> strands(c.count);
-  const double golden = M_PI * (3 - std::sqrt(5.0));
-  for (int i = 0; i < c.count; ++i)
-  {
-    const double rho = c.rho0 * std::sqrt((i + 0.5) / c.count), phi = i * golden;
-    const Eigen::Vector3d root(rho * std::cos(phi), 0, rho * std::sin(phi));
-    const Eigen::Matrix3d frame = frameWithTangent({0, -1, 0});
-    const double a = c.amplitude, w = 2 * M_PI * c.frequency, t0 = c.startOscillation;
-    StrandSpec s = StrandSpec::uniform(c.length, 10, hair);
-    s.id = i;
-    s.name = "clump " + std::to_string(i);
-    s.root = [=](double t)
-    {
-      RootState r;
-      r.orientation = frame;
-      r.position = root;
-      if (t > t0)
-      {
-        r.position.y() += a * std::sin(w * (t - t0));
-        r.velocity.y() = a * w * std::cos(w * (t - t0));
-        r.acceleration.y() = -a * w * w * std::sin(w * (t - t0));
-      }
-      return r;
-    };
-    const double beta = c.betaMax, ramp = c.rampTime;
-    s.windField = [beta, ramp](const Eigen::Vector3d& x, double t)
-    {
-      const double b = beta * std::clamp(t / ramp, 0.0, 1.0);
-      return Eigen::Vector3d(-b * x.x(), 0, -b * x.z());
-    };
-    Status st = strands[i].initialize(s);
-    if (!st)
-      return st;
-  }
+    spec.hair.internalFriction = c.internalFriction;
+  spec.hair.airFriction = c.airFriction;
+  spec.count = c.count;
+  spec.discRadius = c.rho0;
+  spec.length = c.length;
+  spec.flowRate = c.betaMax;
+  spec.rampTime = c.rampTime;
+  spec.amplitude = c.amplitude;
+  spec.frequency = c.frequency;
+  spec.startOscillation = c.startOscillation;
+  std::vector<SuperHelix> strands;
+  if (Status st = initializeClump(spec, strands); !st)
+    return st;
   HairHairContacts contacts, fresh;
   Status st = contacts.setParameters(c.parameters);
   if (!st)
@@ -832,4 +811,29 @@ TEST(HairHairContacts, DISABLED_ClumpSpanCsv)
       std::printf(",%.6g,%.6g", r.span[i], r.meanRadius[i]);
     std::printf("\n");
   }
+}
+
+TEST(ClumpScene, RootsOnTheDiscAndBadSpecsRefused)
+{
+  // The sunflower pattern puts root i at radius R √((i + ½)/n): all inside the disc, the
+  // outermost at R √(1 − 1/(2n)); every strand hangs along −y at rest.
+  ClumpSpec spec;
+  spec.count = 20;
+  std::vector<SuperHelix> strands;
+  ASSERT_TRUE(initializeClump(spec, strands).ok());
+  ASSERT_EQ(strands.size(), 20u);
+  double outer = 0;
+  for (const SuperHelix& h : strands)
+  {
+    const Eigen::Vector3d r = h.position(0), tip = h.position(spec.length);
+    outer = std::max(outer, std::hypot(r.x(), r.z()));
+    EXPECT_NEAR((tip - r).normalized().y(), -1, 1e-12);
+  }
+  EXPECT_NEAR(outer, spec.discRadius * std::sqrt(1 - 0.5 / 20), 1e-15);
+  EXPECT_EQ(clumpRootOffset(spec, 0.5 * spec.startOscillation), 0.0);
+  spec.count = 0;
+  const Status st = initializeClump(spec, strands);
+  EXPECT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("count"), std::string::npos) << st.message();
+  EXPECT_EQ(strands.size(), 20u); // left as it was
 }
