@@ -534,11 +534,16 @@ int scene(const Arguments& args)
 
 struct ClumpConfig
 {
-  int count = 50;
-  double rho0 = 0.012, length = 0.3;
-  double betaMax = 25, rampTime = 3;
-  double amplitude = 0.01, frequency = 3, startOscillation = 3, duration = 6;
-  double airFriction = 2e-4;
+  /// Smooth, round, straight hair (the Euler–Bernoulli strand of the other studies) with an
+  /// air friction 20 × the preset's: the converging flow's grip, strong enough to gather
+  /// the strands within the ramp. γ is set per run.
+  ClumpSpec scene = []
+  {
+    ClumpSpec c;
+    c.hair.airFriction = 2e-4;
+    return c;
+  }();
+  double duration = 6;
   int updatesPerFrame = 4;
   double frame = 1.0 / 30;
   bool contacts = true; ///< false: the same run without hair–hair contacts (the reference)
@@ -548,21 +553,8 @@ struct ClumpConfig
 /// One run at internal friction γ; writes its rows (gamma, time, …) to `out`.
 Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
 {
-  // Smooth, round, straight hair (the Euler–Bernoulli strand of the other studies) with the
-  // preset's internal friction replaced by γ and an air friction 20 × the preset's: the
-  // converging flow's grip, strong enough to gather the strands within the ramp.
-  ClumpSpec spec;
-  spec.hair = roundHair(true);
+  ClumpSpec spec = c.scene;
   spec.hair.internalFriction = gamma;
-  spec.hair.airFriction = c.airFriction;
-  spec.count = c.count;
-  spec.discRadius = c.rho0;
-  spec.length = c.length;
-  spec.flowRate = c.betaMax;
-  spec.rampTime = c.rampTime;
-  spec.amplitude = c.amplitude;
-  spec.frequency = c.frequency;
-  spec.startOscillation = c.startOscillation;
   std::vector<SuperHelix> strands;
   if (Status st = initializeClump(spec, strands); !st)
     return st;
@@ -584,11 +576,11 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();
     for (const SuperHelix& h : strands)
     {
-      const Eigen::Vector3d p = h.position(c.length);
+      const Eigen::Vector3d p = h.position(spec.length);
       tips.emplace_back(p.x(), p.z());
       centre += tips.back();
     }
-    centre /= c.count;
+    centre /= spec.count;
     double mean = 0, span = 0;
     for (size_t i = 0; i < tips.size(); ++i)
     {
@@ -598,7 +590,7 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
     }
     const double t = strands[0].time();
     out << gamma << "," << t << "," << clumpRootOffset(spec, t) << "," << span << ","
-        << mean / c.count << "," << lastContacts << "," << deepest << "\n";
+        << mean / spec.count << "," << lastContacts << "," << deepest << "\n";
     deepest = 0;
   };
   record();
@@ -645,11 +637,11 @@ int clump(const Arguments& args)
   const int count = quick ? 20 : 50;
   const double ramp = quick ? 1.5 : 3, duration = quick ? 3 : 6;
   if (s)
-    s = args.integer("strands", count, 2, 2000, c.count);
+    s = args.integer("strands", count, 2, 2000, c.scene.count);
   if (s)
     s = args.number("duration", duration, 1.0 / 30, 1000, c.duration);
   if (s)
-    s = args.number("ramp", ramp, 1.0 / 30, 1000, c.rampTime);
+    s = args.number("ramp", ramp, 1.0 / 30, 1000, c.scene.rampTime);
   if (s)
     s = args.list("gammas", {5e-11, 1e-10, 2e-10, 5e-10}, 0, 1e-6, gammas);
   if (s)
@@ -659,9 +651,9 @@ int clump(const Arguments& args)
   if (s)
     s = args.integer("contacts", 1, 0, 1, withContacts);
   if (s)
-    s = args.number("amplitude", 0.01, 0, 1, c.amplitude);
+    s = args.number("amplitude", 0.01, 0, 1, c.scene.amplitude);
   if (s)
-    s = args.number("frequency", 3, 0, 100, c.frequency);
+    s = args.number("frequency", 3, 0, 100, c.scene.frequency);
   if (s)
     s = openOutput(args, out);
   if (!s)
@@ -669,8 +661,9 @@ int clump(const Arguments& args)
     std::cerr << "hair_study clump: " << s.message() << "\n";
     return 2;
   }
-  c.rho0 = 0.012 * std::sqrt(c.count / 50.0); // 50 strands on 12 mm: the density of the test
-  c.startOscillation = c.rampTime;
+  // 50 strands on 12 mm: the density of the test.
+  c.scene.discRadius = 0.012 * std::sqrt(c.scene.count / 50.0);
+  c.scene.startOscillation = c.scene.rampTime;
   c.contacts = withContacts == 1;
   // Moving hair: coherence only adds candidates (docs/hair-hair-contacts.md), so it is off.
   c.contact.margin = 0;

@@ -541,12 +541,15 @@ namespace
 // (largest horizontal distance between two of them).
 struct ClumpSetup
 {
-  int count = 50;
-  double rho0 = 0.012, length = 0.3, sProbe = 0.2;
-  double betaMax = 25, rampTime = 3;
-  double amplitude = 0.01, frequency = 3, startOscillation = 3, duration = 6;
-  double internalFriction = -1; ///< γ [kg·m³/s]; < 0: the smooth preset's
-  double airFriction = 2e-4;    ///< ν: 20 × the smooth preset's, the flow's grip on the hair
+  /// The clump (ClumpScene's defaults: 50 guides on a 12 mm disc, 30 cm, β = 25 1/s over
+  /// 3 s, 1 cm at 3 Hz from 3 s) with ν = 2e-4: 20 × the smooth preset's, the flow's grip.
+  ClumpSpec scene = []
+  {
+    ClumpSpec c;
+    c.hair.airFriction = 2e-4;
+    return c;
+  }();
+  double sProbe = 0.2, duration = 6;
   bool contacts = true;
   int updatesPerFrame = 1;     ///< 0: as many as HairHairContacts::updatesPerStep asks (≤ 16)
   bool checkCoherence = false; ///< compare every update with a grid rebuilt from scratch
@@ -562,21 +565,8 @@ struct ClumpRun
 
 Status runClump(const ClumpSetup& c, ClumpRun& out)
 {
-  ClumpSpec spec;
-  spec.hair = smoothHair();
-  if (c.internalFriction >= 0)
-    spec.hair.internalFriction = c.internalFriction;
-  spec.hair.airFriction = c.airFriction;
-  spec.count = c.count;
-  spec.discRadius = c.rho0;
-  spec.length = c.length;
-  spec.flowRate = c.betaMax;
-  spec.rampTime = c.rampTime;
-  spec.amplitude = c.amplitude;
-  spec.frequency = c.frequency;
-  spec.startOscillation = c.startOscillation;
   std::vector<SuperHelix> strands;
-  if (Status st = initializeClump(spec, strands); !st)
+  if (Status st = initializeClump(c.scene, strands); !st)
     return st;
   HairHairContacts contacts, fresh;
   Status st = contacts.setParameters(c.parameters);
@@ -600,7 +590,7 @@ Status runClump(const ClumpSetup& c, ClumpRun& out)
       p.push_back(h.position(c.sProbe));
       centre += p.back();
     }
-    centre /= c.count;
+    centre /= c.scene.count;
     double mean = 0, span = 0;
     for (size_t i = 0; i < p.size(); ++i)
     {
@@ -609,7 +599,7 @@ Status runClump(const ClumpSetup& c, ClumpRun& out)
         span = std::max(span, Eigen::Vector2d(p[i].x() - p[j].x(), p[i].z() - p[j].z()).norm());
     }
     out.time.push_back(strands[0].time());
-    out.meanRadius.push_back(mean / c.count);
+    out.meanRadius.push_back(mean / c.scene.count);
     out.span.push_back(span);
     out.maxPenetration.push_back(deepest);
     deepest = 0;
@@ -707,7 +697,8 @@ TEST(HairHairContacts, ClumpKeepsItsVolume)
   st = runClump(c, without);
   ASSERT_TRUE(st.ok()) << st.message();
   const double initial = with.meanRadius[0];
-  EXPECT_NEAR(initial, 2.0 / 3 * c.rho0, 0.02 * initial); // the sunflower fills the disc
+  EXPECT_NEAR(initial, 2.0 / 3 * c.scene.discRadius,
+              0.02 * initial); // the sunflower fills the disc
   // Squeezed (t in [1, 3] s: the flow at a third of its strength and more).
   EXPECT_GT(smallest(with, with.meanRadius, 1, 3), 0.5 * initial);
   EXPECT_LT(largest(without, without.meanRadius, 2, 3), thickness);
@@ -795,7 +786,7 @@ TEST(HairHairContacts, DISABLED_ClumpSpanCsv)
   std::vector<ClumpRun> runs;
   for (double g : gammas)
   {
-    c.internalFriction = g;
+    c.scene.hair.internalFriction = g;
     runs.emplace_back();
     const Status st = runClump(c, runs.back());
     ASSERT_TRUE(st.ok()) << st.message();
