@@ -153,9 +153,14 @@ Eigen::Vector3d HairParameters::naturalCurvature() const
 {
   if (helixRadius <= 0)
     return Eigen::Vector3d::Zero();
-  const double kappa = 1.0 / helixRadius;
-  const double tau = helixStep / (2 * M_PI * helixRadius * helixRadius);
-  return Eigen::Vector3d(tau, kappa, 0.0);
+  // A rod of constant curvature κ and twist τ is a helix of radius κ/Ω² that advances
+  // 2πτ/Ω² per turn (Ω² = κ² + τ²). Inverted exactly, with c = Δ_h/2π:
+  // κ = r_h/(r_h² + c²), τ = c/(r_h² + c²). The design note's κ = 1/r_h, τ = Δ_h/(2π r_h²)
+  // is the first-order form for c << r_h; for the fuzzy preset (c = 1.6 mm > r_h = 1 mm)
+  // it gave a helix of radius 0.28 mm and step 2.8 mm instead of 1 mm and 1 cm.
+  const double c = helixStep / (2 * M_PI);
+  const double d = helixRadius * helixRadius + c * c;
+  return Eigen::Vector3d(c / d, helixRadius / d, 0.0);
 }
 
 } // namespace hair

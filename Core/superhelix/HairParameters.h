@@ -46,7 +46,8 @@ struct HairParameters
   /// Rotary inertia of the cross-section per unit length, ρ (I1 + I2, I1, I2) [kg·m]:
   /// about n0 (polar), about n1 and about n2 (I1, I2 as in stiffness()).
   Eigen::Vector3d rotaryInertia() const;
-  /// (τⁿ, κ1ⁿ, κ2ⁿ) from the helix radius and step, as in the paper §4.2.
+  /// (τⁿ, κ1ⁿ, κ2ⁿ) of the helix of radius helixRadius that advances helixStep per turn
+  /// (exact helix geometry; the paper §4.2 names these two parameters).
   Eigen::Vector3d naturalCurvature() const;
 };
 

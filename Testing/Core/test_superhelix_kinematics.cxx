@@ -215,6 +215,48 @@ TEST(SuperHelixKinematics, StraightStrandsMassMatrixIsDefiniteThroughRotaryInert
   EXPECT_GT(es.eigenvalues().minCoeff(), 0.5 * expected) << es.eigenvalues().transpose();
 }
 
+TEST(SuperHelixKinematics, NaturalHelixHasTheParametersRadiusAndStep)
+{
+  // The rest shape of a curled preset must be the helix its parameters name: radius r_h and
+  // step Δ_h per turn. Measured on the reconstructed centreline against the parameters
+  // alone (a helix of radius r and step Δ = 2πc has arc length 2π√(r² + c²) per turn, so
+  // it advances c/√(r² + c²) along its axis per unit length), not against the curvature
+  // formula. The axis and centre are fitted from the curve: the axis is the direction of
+  // the chord between points one turn apart, the centre the mean over one turn.
+  for (HairType type : {HairType::Wavy, HairType::Curly, HairType::Fuzzy})
+  {
+    HairParameters p = HairParameters::preset(type);
+    p.curvatureVariation = 0;
+    const double c = p.helixStep / (2 * M_PI), turn = 2 * M_PI * std::hypot(p.helixRadius, c);
+    // Three turns on 4 elements (fuzzy: 3 × 2.6 cm, wavy: 3 × 19 cm).
+    StrandSpec spec = StrandSpec::uniform(3 * turn, 4, p);
+    spec.gravity.setZero();
+    SuperHelix h;
+    ASSERT_TRUE(h.initialize(spec).ok()) << toString(type);
+    const int per = 240; // polyline points per turn
+    std::vector<Eigen::Vector3d> pts;
+    h.polyline(per * 3 / 4, pts); // 4 elements × 180 = 3 turns × 240
+    ASSERT_EQ(pts.size(), size_t(3 * per + 1));
+    const Eigen::Vector3d axis = (pts[2 * per] - pts[per]).normalized();
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int i = 0; i < per; ++i)
+      centre += pts[per + i] / per; // the mean of equally spaced points of a turn: on the axis
+    const double advance = c / std::hypot(p.helixRadius, c);
+    for (int i = 0; i <= 3 * per; ++i)
+    {
+      const double s = turn * i / per;
+      const Eigen::Vector3d d = pts[i] - centre;
+      const double axial = d.dot(axis) - (pts[per] - centre).dot(axis);
+      // Round-off of the closed-form chain over a few turns: 1e-12 of the turn length.
+      EXPECT_NEAR((d - d.dot(axis) * axis).norm(), p.helixRadius, 1e-12 * turn)
+          << toString(type) << " s = " << s;
+      EXPECT_NEAR(axial, advance * (s - turn), 1e-12 * turn) << toString(type) << " s = " << s;
+    }
+    // One turn advances exactly the step.
+    EXPECT_NEAR((pts[2 * per] - pts[per]).norm(), p.helixStep, 1e-12 * turn) << toString(type);
+  }
+}
+
 TEST(SuperHelixKinematics, NaturalHelixIsReconstructedExactlyAndStaysAtRest)
 {
   // A helix with Darboux vector d (world), |d| = Ω, curvature κ and torsion τ has its axis
