@@ -15,16 +15,6 @@ namespace hair
 
 namespace
 {
-// 4-point Gauss–Legendre on [0, 1]: exact for polynomials of degree 7, hence for the
-// mass and force integrands of a straight element; sub-intervals keep Ω h <= π/4 on
-// curved ones (design note).
-constexpr int GaussPoints = 4;
-constexpr double GaussX[GaussPoints] = {
-    0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563, 0.5 + 0.5 * 0.3399810435848563,
-    0.5 + 0.5 * 0.8611363115940526};
-constexpr double GaussW[GaussPoints] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
-                                        0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
-constexpr double MaxTurnPerInterval = M_PI / 2;
 // The tension an explicit step carries, T_ex = ρS ℓ² / (64 h²): a string of tension T with
 // nodes ℓ apart has its highest mode at ω = 2 √(T/ρS) / ℓ, so T_ex keeps h ω <= 1/4, an
 // eighth of the explicit (symplectic Euler) limit h ω < 2. Measured: with 1/16 (h ω <= 1/2)
@@ -83,12 +73,6 @@ EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Ei
   r.col(1) = v.cross(m.col(1));
   r.col(2) = v.cross(m.col(2));
   return r;
-}
-
-// Quadrature sub-intervals of an element of curvature k and length l.
-inline int subIntervals(const Eigen::Vector3d& k, double l)
-{
-  return std::max(1, static_cast<int>(std::ceil(k.norm() * l / MaxTurnPerInterval)));
 }
 
 // Deterministic on every platform (std::uniform_real_distribution is not).
@@ -152,6 +136,19 @@ Status StrandSpec::validate() const
     return Status::Error(who + "wind is not finite; give a velocity in m/s.");
   if (!tipForce.allFinite())
     return Status::Error(who + "the tip force is not finite; give a force in N.");
+  if (!(quadratureTolerance >= 1e-15 && quadratureTolerance <= 1e-2))
+  {
+    std::ostringstream s;
+    s << who << "quadratureTolerance = " << quadratureTolerance
+      << " is outside [1e-15, 1e-2]; the default " << QuadratureChooser::defaultTolerance()
+      << " is the former fixed rule's accuracy.";
+    return Status::Error(s.str());
+  }
+  if (quadraturePoints != 0 && (quadraturePoints < 3 || quadraturePoints > MaxGaussPoints))
+    return Status::Error(who + "quadraturePoints = " + std::to_string(quadraturePoints) +
+                         " is neither 0 (chosen per element) nor in [3, " +
+                         std::to_string(MaxGaussPoints) +
+                         "]; keep 0 unless reproducing the former fixed rule (4).");
   return Status::Ok();
 }
 
@@ -193,6 +190,10 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   }
   RhoS = Spec.hair.linearDensity();
   RotI = Spec.hair.rotaryInertia();
+  Rules = Spec.quadraturePoints > 0
+              ? QuadratureChooser(Spec.quadratureTolerance, Spec.quadraturePoints,
+                                  Spec.quadraturePoints)
+              : QuadratureChooser(Spec.quadratureTolerance);
   const Eigen::Vector3d k0 = Spec.hair.naturalCurvature();
   const Eigen::Vector3d stiff = Spec.hair.stiffness();
   std::mt19937 gen(Spec.seed);
@@ -248,8 +249,8 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     // steps keep the count), then fill them in place.
     size_t count = 0;
     for (int e = 0; e < n; ++e)
-      count += GaussPoints *
-               static_cast<size_t>(subIntervals(q.segment<3>(3 * e), Spec.elementLengths[e]));
+      count += static_cast<size_t>(
+          Rules.choose(q.segment<3>(3 * e).norm() * Spec.elementLengths[e]).samples());
     out.nodes.resize(count);
   }
   size_t next = 0;
@@ -281,16 +282,18 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
       const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
       Eigen::Vector3d omLocal;
-      const int nsub = subIntervals(k, l);
+      const ElementRule rule = Rules.choose(k.norm() * l);
+      const GaussRule& gauss = gaussLegendre(rule.points);
+      const int nsub = rule.intervals;
       const double hsub = l / nsub;
       for (int sI = 0; sI < nsub; ++sI)
       {
-        for (int g = 0; g < GaussPoints; ++g)
+        for (int g = 0; g < rule.points; ++g)
         {
           Node& nd = out.nodes[next++];
           nd.element = e;
-          nd.u = hsub * (sI + GaussX[g]);
-          nd.w = hsub * GaussW[g];
+          nd.u = hsub * (sI + gauss.x[g]);
+          nd.w = hsub * gauss.w[g];
           helixPoint(k, kd, nd.u, hp, &nd.coefficients);
           const Eigen::Vector3d Fg = Fr * hp.g;
           nd.J = Fr * hp.dg;

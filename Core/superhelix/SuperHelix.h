@@ -7,6 +7,7 @@
 #include "common/Status.h"
 #include "superhelix/HairParameters.h"
 #include "superhelix/HelixFunctions.h"
+#include "superhelix/Quadrature.h"
 #include "superhelix/RootMotion.h"
 
 #include <Eigen/Core>
@@ -39,6 +40,14 @@ struct StrandSpec
   /// A dead load at the free end [N] (constant direction; e.g. the axial load of a
   /// buckling study). Its work is EnergyTerms::loadWork.
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();
+  /// A priori bound on the relative error of each element's Gauss quadrature (of M, the
+  /// forces and C); the rule is chosen per element from its turning Ω ℓ (Quadrature.h).
+  /// The default is the bound of the former fixed rule; smaller is more accurate and dearer.
+  double quadratureTolerance = QuadratureChooser::defaultTolerance();
+  /// 0: the rule size is chosen per element (default). n in [3, MaxGaussPoints]: n points
+  /// per interval, intervals from the tolerance; 4 with the default tolerance is the fixed
+  /// rule of earlier versions (4 points per π/2 of turning), kept to reproduce their results.
+  int quadraturePoints = 0;
 
   /// A strand of `elements` equal elements of total length `length`.
   static StrandSpec uniform(double length, int elements, const HairParameters& hair);
@@ -222,6 +231,7 @@ private:
   double Time = 0;
   double RhoS = 0;
   Eigen::Vector3d RotI = Eigen::Vector3d::Zero(); // ρ (I_p, I1, I2) per unit length
+  QuadratureChooser Rules;
   Eigen::VectorXd Q, Qdot, Qrest, Kdiag, Gdiag, Starts;
   EnergyReport Energy;
   ContactForces Contacts;
