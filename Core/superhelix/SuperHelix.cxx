@@ -80,6 +80,74 @@ double uniformSigned(std::mt19937& g)
 {
   return 2.0 * (static_cast<double>(g()) / 4294967296.0) - 1.0;
 }
+// Solves a x = b in place for the column-major m × m matrix a (overwritten by its LU
+// factors, row interchanges in piv) and b (overwritten by x); returns the smallest pivot
+// magnitude (0 or NaN: singular, x not computed). Compiled twice, for AVX2 and for the
+// baseline x86-64, and picked at load time by the CPU (GCC function multi-versioning):
+// the same operations in the same order (no FMA contraction in ISO C++ mode), so the
+// same results bit for bit, with 4-wide instead of 2-wide vectors where the CPU has them.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double
+luSolveInPlace(double* a, double* x, int m, int* piv)
+{
+  double pivot = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < m; ++c)
+  {
+    double* col = a + static_cast<std::ptrdiff_t>(c) * m;
+    int p = c;
+    double best = std::abs(col[c]);
+    for (int i = c + 1; i < m; ++i)
+      if (std::abs(col[i]) > best)
+      {
+        best = std::abs(col[i]);
+        p = i;
+      }
+    piv[c] = p;
+    if (!(best > 0))
+      return best; // singular (or NaN): refused by the caller
+    pivot = std::min(pivot, best);
+    if (p != c)
+      for (int j = 0; j < m; ++j)
+        std::swap(a[static_cast<std::ptrdiff_t>(j) * m + c],
+                  a[static_cast<std::ptrdiff_t>(j) * m + p]);
+    const double inv = 1.0 / col[c];
+    for (int i = c + 1; i < m; ++i)
+      col[i] *= inv;
+    // Trailing update, four columns per pass over the pivot column (the same operations
+    // y −= f x per entry; a pass per column spent most of its time in loop overhead).
+    int j = c + 1;
+    const int len = m - c - 1;
+    for (; j + 4 <= m; j += 4)
+    {
+      double* c0 = a + static_cast<std::ptrdiff_t>(j) * m;
+      double* c1 = c0 + m;
+      double* c2 = c1 + m;
+      double* c3 = c2 + m;
+      subtractScaled4(c0 + c + 1, c1 + c + 1, c2 + c + 1, c3 + c + 1, col + c + 1, c0[c], c1[c],
+                      c2[c], c3[c], len);
+    }
+    for (; j < m; ++j)
+    {
+      double* cj = a + static_cast<std::ptrdiff_t>(j) * m;
+      const double f = cj[c];
+      if (f != 0)
+        subtractScaled(cj + c + 1, col + c + 1, f, len);
+    }
+  }
+  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
+    std::swap(x[c], x[piv[c]]);
+  for (int c = 0; c < m; ++c)
+    subtractScaled(x + c + 1, a + static_cast<std::ptrdiff_t>(c) * m + c + 1, x[c], m - c - 1);
+  for (int c = m - 1; c >= 0; --c)
+  {
+    const double* col = a + static_cast<std::ptrdiff_t>(c) * m;
+    x[c] /= col[c];
+    subtractScaled(x, col, x[c], c);
+  }
+  return pivot;
+}
 } // namespace
 
 Status RootState::validate() const
@@ -965,70 +1033,10 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // PartialPivLU), unblocked and column-oriented: at 3N = 30 Eigen's blocked kernel spent
   // most of its time in packing and dispatch.
   Pivots.resize(static_cast<size_t>(m));
-  double* a = Lhs.data();
-  double pivot = std::numeric_limits<double>::infinity();
-  for (int c = 0; c < m; ++c)
-  {
-    double* col = a + static_cast<std::ptrdiff_t>(c) * m;
-    int piv = c;
-    double best = std::abs(col[c]);
-    for (int i = c + 1; i < m; ++i)
-      if (std::abs(col[i]) > best)
-      {
-        best = std::abs(col[i]);
-        piv = i;
-      }
-    Pivots[c] = piv;
-    if (!(best > 0))
-    {
-      pivot = best; // singular (or NaN): refused below
-      break;
-    }
-    pivot = std::min(pivot, best);
-    if (piv != c)
-      for (int j = 0; j < m; ++j)
-        std::swap(a[static_cast<std::ptrdiff_t>(j) * m + c],
-                  a[static_cast<std::ptrdiff_t>(j) * m + piv]);
-    const double inv = 1.0 / col[c];
-    for (int i = c + 1; i < m; ++i)
-      col[i] *= inv;
-    // Trailing update, four columns per pass over the pivot column (the same operations
-    // y −= f x per entry; a pass per column spent most of its time in loop overhead).
-    int j = c + 1;
-    const int len = m - c - 1;
-    for (; j + 4 <= m; j += 4)
-    {
-      double* c0 = a + static_cast<std::ptrdiff_t>(j) * m;
-      double* c1 = c0 + m;
-      double* c2 = c1 + m;
-      double* c3 = c2 + m;
-      subtractScaled4(c0 + c + 1, c1 + c + 1, c2 + c + 1, c3 + c + 1, col + c + 1, c0[c], c1[c],
-                      c2[c], c3[c], len);
-    }
-    for (; j < m; ++j)
-    {
-      double* cj = a + static_cast<std::ptrdiff_t>(j) * m;
-      const double f = cj[c];
-      if (f != 0)
-        subtractScaled(cj + c + 1, col + c + 1, f, len);
-    }
-  }
+  const double pivot = luSolveInPlace(Lhs.data(), Rhs.data(), m, Pivots.data());
   if (!(pivot > 1e-30 * scale))
     return Status::Error("the step's matrix is singular (smallest pivot " + std::to_string(pivot) +
                          ")");
-  double* x = Rhs.data();
-  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
-    std::swap(x[c], x[Pivots[c]]);
-  for (int c = 0; c < m; ++c)
-  {
-    subtractScaled(x + c + 1, a + static_cast<std::ptrdiff_t>(c) * m + c + 1, x[c], m - c - 1);
-  }
-  for (int c = m - 1; c >= 0; --c)
-  {
-    const double* col = a + static_cast<std::ptrdiff_t>(c) * m;
-    x[c] /= col[c];
-    subtractScaled(x, col, x[c], c);
-  }
   qdotNext = Rhs;
   return Status::Ok();
 }
@@ -1195,10 +1203,14 @@ Status SuperHelix::singleStep(double h)
     flow.frictionDissipated = h * (Gdiag.array() * qdN.array().square()).sum();
   }
 
-  kinematics(qN, qdN, rootN, t1, true, Next);
+  // The new state's kinematics go to a per-thread buffer that is swapped with Cur on
+  // commit, so each strand keeps one set of samples (not two): with hundreds of strands
+  // stepped in turn, the strand's data streamed through the caches is what a step costs.
+  thread_local Kinematics next;
+  kinematics(qN, qdN, rootN, t1, true, next);
   const double elastic = elasticEnergy(qN);
   const double e0 = Energy.mechanical();
-  const double e1 = Next.kinetic + elastic + Next.gravitational;
+  const double e1 = next.kinetic + elastic + next.gravitational;
   if (!std::isfinite(e1))
     return Status::Error(where(t0, t1) + "the energy is not finite; the previous state is kept.");
   flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork - flow.loadWork +
@@ -1208,7 +1220,7 @@ Status SuperHelix::singleStep(double h)
   Q = qN;
   Qdot = qdN;
   Time = t1;
-  std::swap(Cur, Next);
+  std::swap(Cur, next);
   CurValid = true;
   Energy.time = t1;
   Energy.kinetic = Cur.kinetic;

@@ -238,7 +238,7 @@ private:
   bool Initialized = false;
   int LastSubsteps = 1;
 
-  Kinematics Cur, Next;
+  Kinematics Cur;
   bool CurValid = false;
   mutable std::vector<StrandSample> Samples;
   Eigen::MatrixXd M, C, Kt, Lhs;
