@@ -13,6 +13,12 @@
 namespace hair
 {
 
+thread_local Eigen::MatrixXd SuperHelix::M, SuperHelix::C, SuperHelix::Kt, SuperHelix::Lhs;
+thread_local Eigen::VectorXd SuperHelix::Rhs;
+thread_local std::vector<int> SuperHelix::Pivots;
+thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
+thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
+
 namespace
 {
 // The tension an explicit step carries, T_ex = ρS ℓ² / (64 h²): a string of tension T with
@@ -283,10 +289,6 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Qdot = Eigen::VectorXd::Zero(3 * n);
   Time = time;
   Energy = EnergyReport{};
-  M.resize(3 * n, 3 * n);
-  C.resize(3 * n, 3 * n);
-  Kt.resize(3 * n, 3 * n);
-  Lhs.resize(3 * n, 3 * n);
   F.resize(3 * n);
   Initialized = true;
   kinematics(Q, Qdot, root, Time, true, Cur);
@@ -585,6 +587,7 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
 void SuperHelix::assemble()
 {
   const int n = elementCount();
+  M.resize(3 * n, 3 * n); // per-thread buffer (no-op when the size is kept)
   Kinematics& k = Cur;
   // Explicit force per unit length: gravity, drag on the rigid (root-carried) velocity
   // against the wind (the q̇-part of drag is implicit), inertia of the root motion and the
@@ -730,6 +733,7 @@ void SuperHelix::assembleTensionStiffness(double h)
   // step carries is used, T⁺ = max(0, T − ρS ℓ² / (64 h²)), so that small steps keep the
   // explicit (energy-neutral) treatment. Tail sums as for the mass matrix: O(N²).
   const int n = elementCount();
+  Kt.resize(3 * n, 3 * n); // per-thread buffer
   Kinematics& k = Cur;
   thread_local std::vector<Eigen::Matrix3d> Y;
   Y.resize(n);
@@ -786,6 +790,7 @@ void SuperHelix::assembleVelocityJacobian()
   //   δa0 = δa − [Fg]× δα + Φ δω,  Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]×,
   // so per-element moments of these maps give each column block in O(N).
   const int n = elementCount();
+  C.resize(3 * n, 3 * n); // per-thread buffer
   const Kinematics& k = Cur;
   struct Maps
   {

@@ -162,7 +162,9 @@ public:
   const std::vector<StrandSample>& samples() const;
 
   /// The pieces of one step, exposed for tests and for the benchmark's breakdown.
-  /// solve() uses the M, f, C and K_T assembled last for the current state.
+  /// solve() uses the M, f, C and K_T assembled last for the current state. M, C and K_T
+  /// are per-thread buffers: their accessors return the last ones assembled on the calling
+  /// thread (for any strand), so read them before assembling another strand.
   void reconstruct();                                 ///< kinematics at every sample (time())
   void assemble();                                    ///< M and the explicit generalized force f
   void assembleVelocityJacobian();                    ///< C = ∂f/∂q̇ (after assemble)
@@ -241,11 +243,16 @@ private:
   Kinematics Cur;
   bool CurValid = false;
   mutable std::vector<StrandSample> Samples;
-  Eigen::MatrixXd M, C, Kt, Lhs;
-  Eigen::VectorXd F, Rhs;
-  std::vector<int> Pivots;                 // row interchanges of the unblocked LU of Lhs (small N)
-  Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
-  std::vector<ContactResponse> ContactBuffer;
+  Eigen::VectorXd F;
+  // Rebuilt by every step and used only inside it: one copy per thread, not per strand.
+  // With a thousand strands stepped in turn, a strand's own data comes from memory on each
+  // step; these 4 (3N)² matrices would be most of it (29 KB at N = 10) and stay in cache
+  // instead. The accessors below return the last ones built on the calling thread.
+  static thread_local Eigen::MatrixXd M, C, Kt, Lhs;
+  static thread_local Eigen::VectorXd Rhs;
+  static thread_local std::vector<int> Pivots; // row interchanges of the unblocked LU (small N)
+  static thread_local Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
+  static thread_local std::vector<ContactResponse> ContactBuffer;
   void addContactJacobians(double h); // implicit contact terms into Lhs and Rhs
 };
 

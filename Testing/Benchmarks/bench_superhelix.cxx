@@ -5,6 +5,7 @@
 //                            sample), assembly of M and f, the velocity Jacobian C, the
 //                            tension stiffness K_T, and the dense LU solve
 //   BM_StrandsPerSecond/<T>  256 strands of N = 10 stepped together on T threads
+//   BM_RealTimeGuides/<T>    1000 strands of N = 10 on T threads: frames of 1/30 s per second
 //   BM_ReferenceState/<p>    guard for speed work: q after 30 steps (each preset, N = 10)
 //                            against values recorded before it; errors past 1e-9 relative
 #include "superhelix/SuperHelix.h"
@@ -143,6 +144,29 @@ void BM_StrandsPerSecond(benchmark::State& state)
   state.counters["threads"] = threads;
 }
 
+// The purpose: 1000 guide strands (N = 10, the four presets in turn) in real time,
+// i.e. 30 frames of 1/30 s per second of wall time. items_per_second is frames per second.
+void BM_RealTimeGuides(benchmark::State& state)
+{
+  const int threads = static_cast<int>(state.range(0));
+  std::vector<SuperHelix> strands(1000);
+  for (int i = 0; i < 1000; ++i)
+    (void)strands[i].initialize(shakenStrand(static_cast<HairType>(i % 4), 10, i));
+  for (int k = 0; k < 10; ++k)
+    (void)stepStrands(strands, 1.0 / 30, threads);
+  for (auto _ : state)
+  {
+    Status st = stepStrands(strands, 1.0 / 30, threads);
+    if (!st)
+    {
+      state.SkipWithError(st.message().c_str());
+      break;
+    }
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["threads"] = threads;
+}
+
 // q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, recorded after the
 // natural-curvature fix and the per-element quadrature rule (docs/benchmarks-superhelix.md,
 // fifth revision), before that revision's speed work. A speed change must leave the results
@@ -232,5 +256,6 @@ BENCHMARK(BM_Phase_TensionStiffness)->Apply(nArgs)->Unit(benchmark::kMicrosecond
 BENCHMARK(BM_Phase_Solve)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ReferenceState)->DenseRange(0, 3)->Iterations(1);
 BENCHMARK(BM_StrandsPerSecond)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RealTimeGuides)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
