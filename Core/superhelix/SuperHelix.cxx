@@ -1014,8 +1014,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 + Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint,
   // one factor of the quadratic ones at the new velocity.
   const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
-  Lhs = airScale * M - (0.5 * h) * C;
-  Lhs.noalias() += (h * h) * Kt;
+  Lhs = airScale * M - (0.5 * h) * C + (h * h) * Kt; // one pass, same order of operations
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
   Rhs.noalias() = M * Qdot;
   Rhs.noalias() -= (0.5 * h) * (C * Qdot);
