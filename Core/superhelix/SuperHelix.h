@@ -180,6 +180,9 @@ public:
   /// asked for accuracy.
   int lastSubsteps() const { return LastSubsteps; }
 
+  /// Asks the CPU to start loading this strand's samples into cache (no effect on results);
+  /// stepStrands calls it for the next strand while it steps one.
+  void prefetch() const;
   /// Upper bound on the sub-steps of advance().
   static constexpr int MaxSubsteps = 256;
 
