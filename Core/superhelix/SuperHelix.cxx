@@ -651,10 +651,10 @@ void SuperHelix::assemble()
   }
   // Column block P above the diagonal, B_{Q<P} Z_P: the three columns in one pass, vectorized
   // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
-  // 3 × 3 blocks); then its transpose as row block P below the diagonal.
+  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
   const Eigen::Index ld = M.rows(), ldb = B.rows();
-  auto product = [ld, ldb](double* __restrict col, const double* __restrict b,
-                           const double* __restrict z, int rows)
+  auto product = [ld, ldb](double* __restrict col, double* __restrict row,
+                           const double* __restrict b, const double* __restrict z, int rows)
   {
     for (int r = 0; r < rows; ++r)
     {
@@ -669,16 +669,13 @@ void SuperHelix::assemble()
       col[r] = s0;
       col[ld + r] = s1;
       col[2 * ld + r] = s2;
+      row[r * ld] = s0;
+      row[r * ld + 1] = s1;
+      row[r * ld + 2] = s2;
     }
   };
   for (int p = 1; p < n; ++p)
-  {
-    double* const col = M.data() + 3 * p * ld;
-    product(col, B.data(), Z[p].data(), 3 * p);
-    for (int i = 0; i < 3; ++i)
-      for (int c = 0; c < 3 * p; ++c)
-        col[c * ld - 3 * p * ld + 3 * p + i] = col[i * ld + c];
-  }
+    product(M.data() + 3 * p * ld, M.data() + 3 * p, B.data(), Z[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleTensionStiffness(double h)
@@ -737,10 +734,10 @@ void SuperHelix::assembleTensionStiffness(double h)
   }
   // Column block P above the diagonal, At_{Q<P} Y_P: the three columns in one pass, vectorized
   // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
-  // 3 × 3 blocks); then its transpose as row block P below the diagonal.
+  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
   const Eigen::Index ld = Kt.rows(), lda = At.rows();
-  auto product = [ld, lda](double* __restrict col, const double* __restrict at,
-                           const double* __restrict y, int rows)
+  auto product = [ld, lda](double* __restrict col, double* __restrict row,
+                           const double* __restrict at, const double* __restrict y, int rows)
   {
     for (int r = 0; r < rows; ++r)
     {
@@ -755,16 +752,13 @@ void SuperHelix::assembleTensionStiffness(double h)
       col[r] = s0;
       col[ld + r] = s1;
       col[2 * ld + r] = s2;
+      row[r * ld] = s0;
+      row[r * ld + 1] = s1;
+      row[r * ld + 2] = s2;
     }
   };
   for (int p = 1; p < n; ++p)
-  {
-    double* const col = Kt.data() + 3 * p * ld;
-    product(col, At.data(), Y[p].data(), 3 * p);
-    for (int i = 0; i < 3; ++i)
-      for (int c = 0; c < 3 * p; ++c)
-        col[c * ld - 3 * p * ld + 3 * p + i] = col[i * ld + c];
-  }
+    product(Kt.data() + 3 * p * ld, Kt.data() + 3 * p, At.data(), Y[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleVelocityJacobian()
@@ -883,41 +877,57 @@ void SuperHelix::assembleVelocityJacobian()
     B.block<3, 3>(3 * p, 0) = k.elements[p].A.transpose();
     B.block<3, 3>(3 * p, 3) = k.elements[p].W.transpose();
   }
-  // dst(r, c) (+)= Σ_{j < K} src(r, j) z(j, c) for r < rows, c < 3 (column-major, z is K × 3,
-  // dst and src distinct columns): the three columns in one pass, vectorized over r. Eigen's
-  // lazy product on these dynamic blocks was measured slower than the 3 × 3 blocks.
-  auto product3 = [](auto depth, auto add, double* __restrict dst, Eigen::Index ldd,
-                     const double* __restrict src, Eigen::Index lds, const double* __restrict z,
-                     int rows)
+  // dst(r, c) = Σ_{j < 6} src(r, j) z(j, c) for r < rows, c < 3 (column-major, z is 6 × 3):
+  // the three columns in one pass, vectorized over r. Eigen's lazy product on these dynamic
+  // blocks was measured slower than the 3 × 3 blocks.
+  const Eigen::Index ldc = C.rows(), ldg = Gam.rows(), ldb = B.rows();
+  auto product = [ldc, ldb](double* __restrict dst, const double* __restrict src,
+                            const double* __restrict z, int rows)
   {
-    constexpr int K = decltype(depth)::value;
     for (int r = 0; r < rows; ++r)
     {
       double s0 = 0, s1 = 0, s2 = 0;
-      for (int j = 0; j < K; ++j)
+      for (int j = 0; j < 6; ++j)
       {
-        const double x = src[j * lds + r];
+        const double x = src[j * ldb + r];
         s0 += x * z[j];
-        s1 += x * z[K + j];
-        s2 += x * z[2 * K + j];
+        s1 += x * z[6 + j];
+        s2 += x * z[12 + j];
       }
-      if constexpr (decltype(add)::value)
-      {
-        dst[r] += s0;
-        dst[ldd + r] += s1;
-        dst[2 * ldd + r] += s2;
-      }
-      else
-      {
-        dst[r] = s0;
-        dst[ldd + r] = s1;
-        dst[2 * ldd + r] = s2;
-      }
+      dst[r] = s0;
+      dst[ldc + r] = s1;
+      dst[2 * ldc + r] = s2;
     }
   };
-  using Assign = std::false_type;
-  using Add = std::true_type;
-  const Eigen::Index ldc = C.rows(), ldg = Gam.rows();
+  // One pass over the rows of Γ_{qe+1} (columns [a l w], rows r < rows): C's column block qe
+  // below the diagonal, dst(r, :) = Γ(r, :) S, then Γ_{qe+1} Prop_qe in place,
+  //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
+  auto lowerAndPropagate = [ldc, ldg](double* __restrict dst, double* __restrict g,
+                                      const double* __restrict S, const double* __restrict phi,
+                                      const Eigen::Vector3d& akd, const Eigen::Vector3d& fg,
+                                      int rows)
+  {
+    const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
+#pragma GCC ivdep // each pass reads and writes row r of Γ only
+    for (int r = 0; r < rows; ++r)
+    {
+      const double a0 = g[r], a1 = g[ldg + r], a2 = g[2 * ldg + r];
+      const double l0 = g[3 * ldg + r], l1 = g[4 * ldg + r], l2 = g[5 * ldg + r];
+      const double w0 = g[6 * ldg + r], w1 = g[7 * ldg + r], w2 = g[8 * ldg + r];
+      for (int c = 0; c < 3; ++c)
+      {
+        const double* const s = S + 9 * c;
+        dst[c * ldc + r] = a0 * s[0] + a1 * s[1] + a2 * s[2] + l0 * s[3] + l1 * s[4] + l2 * s[5] +
+                           w0 * s[6] + w1 * s[7] + w2 * s[8];
+      }
+      g[6 * ldg + r] = w0 + (a0 * phi[0] + a1 * phi[1] + a2 * phi[2]) - (l1 * v2 - l2 * v1);
+      g[7 * ldg + r] = w1 + (a0 * phi[3] + a1 * phi[4] + a2 * phi[5]) - (l2 * v0 - l0 * v2);
+      g[8 * ldg + r] = w2 + (a0 * phi[6] + a1 * phi[7] + a2 * phi[8]) - (l0 * v1 - l1 * v0);
+      g[3 * ldg + r] = l0 - (a1 * f2 - a2 * f1);
+      g[4 * ldg + r] = l1 - (a2 * f0 - a0 * f2);
+      g[5 * ldg + r] = l2 - (a0 * f1 - a1 * f0);
+    }
+  };
   Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
   Map39 lf = lm; // Λ_{qe+1}: tail torque rows lm, tail force rows lf
   for (int qe = n - 1; qe >= 0; --qe)
@@ -942,17 +952,12 @@ void SuperHelix::assembleVelocityJacobian()
     T.topRows<3>() = -RhoS * (mq.ownM + HM);
     T.bottomRows<3>() = -RhoS * (mq.ownF + HF);
     double* const col = C.data() + 3 * qe * ldc;
-    product3(std::integral_constant<int, 6>(), Assign(), col, ldc, B.data(), B.rows(), T.data(),
-             3 * qe);
-    // Rows p > qe: Γ_{qe+1} S.
-    const int below = 3 * (n - qe - 1);
-    double* const gam = Gam.data() + 3 * qe + 3; // Γ_{qe+1}
-    product3(std::integral_constant<int, 9>(), Assign(), col + 3 * qe + 3, ldc, gam, ldg, S.data(),
-             below);
-
-    // Λ_{qe+1} Prop_qe and Γ_{qe+1} Prop_qe, block columns (δa, δα, δω):
-    //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×  (w first: it uses the old l).
-    // For Λ (3 × 3 blocks) X [v]× = −([v]× Xᵀ)ᵀ by column cross products.
+    product(col, B.data(), T.data(), 3 * qe);
+    // Rows p > qe: Γ_{qe+1} S; then Γ_{qe+1} Prop_qe (the rows of Γ_qe past qe).
+    lowerAndPropagate(col + 3 * qe + 3, Gam.data() + 3 * qe + 3, S.data(), mq.PhiEnd.data(), mq.akd,
+                      mq.fgEnd, 3 * (n - qe - 1));
+    // Λ_{qe+1} Prop_qe, block columns (δa, δα, δω): w += a Φ_end − l [A k̇]×, l −= a [Fg_end]×
+    // (w first: it uses the old l); X [v]× = −([v]× Xᵀ)ᵀ by column cross products.
     auto prop = [&mq](Map39& x)
     {
       x.w.noalias() += x.a * mq.PhiEnd;
@@ -961,16 +966,6 @@ void SuperHelix::assembleVelocityJacobian()
     };
     prop(lm);
     prop(lf);
-    {
-      Eigen::Matrix<double, 6, 3> PW; // [Φ_end; −[A k̇]×]: [a l] ↦ the change of w
-      PW.topRows<3>() = mq.PhiEnd;
-      PW.bottomRows<3>() = -skew(mq.akd);
-      const Eigen::Matrix3d PL = -skew(mq.fgEnd); // a ↦ the change of l
-      product3(std::integral_constant<int, 6>(), Add(), gam + 6 * ldg, ldg, gam, ldg, PW.data(),
-               below);
-      product3(std::integral_constant<int, 3>(), Add(), gam + 3 * ldg, ldg, gam, ldg, PL.data(),
-               below);
-    }
     // G_qe = −ρS (P_qe + [A_qeᵀ W_qeᵀ] Λ_{qe+1} Prop_qe): row qe of Γ_qe.
     Eigen::Matrix3d ga = mq.Pc, gl = mq.Pl, gw = mq.Po;
     ga.noalias() += eq.A.transpose() * lm.a + eq.W.transpose() * lf.a;
