@@ -600,10 +600,15 @@ void SuperHelix::assemble()
   Eigen::Vector3d tailC = Eigen::Vector3d::Zero();
   Eigen::Matrix3d tailTheta = Eigen::Matrix3d::Zero();
   double tailM = 0;
-  // Per element: U_P, V_P such that block(Q < P) = A_Qᵀ U_P + W_Qᵀ V_P.
-  thread_local std::vector<Eigen::Matrix3d> U, V;
-  U.resize(n);
-  V.resize(n);
+  // Per element P: Z_P = [U_P; V_P] such that block(Q < P) = A_Qᵀ U_P + W_Qᵀ V_P, and the
+  // stack B (rows 3Q..3Q+2 = [A_Qᵀ W_Qᵀ]) so that the whole column block P above the diagonal
+  // is one product B_{Q<P} Z_P over long columns (3 × 3 products block by block vectorize
+  // poorly). The buffers only grow: nothing is allocated per step.
+  thread_local std::vector<Eigen::Matrix<double, 6, 3>> Z;
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 6> B;
+  Z.resize(n);
+  if (B.rows() < 3 * n)
+    B.resize(3 * n, 6);
   for (int e = n - 1; e >= 0; --e)
   {
     const Element& el = k.elements[e];
@@ -705,22 +710,43 @@ void SuperHelix::assemble()
     d.noalias() += el.W.transpose() * TV;
     // Symmetric up to round-off: symmetrized exactly.
     M.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
-    U[e] = X + TU;
-    V[e] = Y + TV;
+    Z[e].topRows<3>() = X + TU;
+    Z[e].bottomRows<3>() = Y + TV;
+    B.block<3, 3>(3 * e, 0) = el.A.transpose();
+    B.block<3, 3>(3 * e, 3) = el.W.transpose();
     tailF += eF;
     tailT += eT;
     tailM += eM;
     tailC += eC;
     tailTheta += eTheta;
   }
-  for (int p = 1; p < n; ++p)
-    for (int qq = 0; qq < p; ++qq)
+  // Column block P above the diagonal, B_{Q<P} Z_P: the three columns in one pass, vectorized
+  // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
+  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
+  const Eigen::Index ld = M.rows(), ldb = B.rows();
+  auto product = [ld, ldb](double* __restrict col, double* __restrict row,
+                           const double* __restrict b, const double* __restrict z, int rows)
+  {
+    for (int r = 0; r < rows; ++r)
     {
-      const Element& eq = k.elements[qq];
-      const Eigen::Matrix3d b = eq.A.transpose() * U[p] + eq.W.transpose() * V[p];
-      M.block<3, 3>(3 * qq, 3 * p) = b;
-      M.block<3, 3>(3 * p, 3 * qq) = b.transpose();
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int j = 0; j < 6; ++j)
+      {
+        const double x = b[j * ldb + r];
+        s0 += x * z[j];
+        s1 += x * z[6 + j];
+        s2 += x * z[12 + j];
+      }
+      col[r] = s0;
+      col[ld + r] = s1;
+      col[2 * ld + r] = s2;
+      row[r * ld] = s0;
+      row[r * ld + 1] = s1;
+      row[r * ld + 2] = s2;
     }
+  };
+  for (int p = 1; p < n; ++p)
+    product(M.data() + 3 * p * ld, M.data() + 3 * p, B.data(), Z[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleTensionStiffness(double h)
@@ -735,8 +761,13 @@ void SuperHelix::assembleTensionStiffness(double h)
   const int n = elementCount();
   Kt.resize(3 * n, 3 * n); // per-thread buffer
   Kinematics& k = Cur;
+  // Per element P: Y_P such that block(Q < P) = A_Qᵀ Y_P, and the stack At (rows
+  // 3Q..3Q+2 = A_Qᵀ) so that column block P above the diagonal is one product At_{Q<P} Y_P.
   thread_local std::vector<Eigen::Matrix3d> Y;
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 3> At;
   Y.resize(n);
+  if (At.rows() < 3 * n)
+    At.resize(3 * n, 3);
   Eigen::Vector3d tailF = Spec.tipForce;
   Eigen::Matrix3d tailP = Eigen::Matrix3d::Zero(); // ∫ T⁺ (I − n0 n0ᵀ) beyond the element
   for (int e = n - 1; e >= 0; --e)
@@ -768,17 +799,38 @@ void SuperHelix::assembleTensionStiffness(double h)
       eP += P;
     }
     Y[e] = Yown + tailP * el.A;
+    At.block<3, 3>(3 * e, 0) = el.A.transpose();
     const Eigen::Matrix3d d = Down + el.A.transpose() * (tailP * el.A);
     Kt.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
     tailP += eP;
   }
-  for (int p = 1; p < n; ++p)
-    for (int qq = 0; qq < p; ++qq)
+  // Column block P above the diagonal, At_{Q<P} Y_P: the three columns in one pass, vectorized
+  // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
+  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
+  const Eigen::Index ld = Kt.rows(), lda = At.rows();
+  auto product = [ld, lda](double* __restrict col, double* __restrict row,
+                           const double* __restrict at, const double* __restrict y, int rows)
+  {
+    for (int r = 0; r < rows; ++r)
     {
-      const Eigen::Matrix3d b = k.elements[qq].A.transpose() * Y[p];
-      Kt.block<3, 3>(3 * qq, 3 * p) = b;
-      Kt.block<3, 3>(3 * p, 3 * qq) = b.transpose();
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int j = 0; j < 3; ++j)
+      {
+        const double x = at[j * lda + r];
+        s0 += x * y[j];
+        s1 += x * y[3 + j];
+        s2 += x * y[6 + j];
+      }
+      col[r] = s0;
+      col[ld + r] = s1;
+      col[2 * ld + r] = s2;
+      row[r * ld] = s0;
+      row[r * ld + 1] = s1;
+      row[r * ld + 2] = s2;
     }
+  };
+  for (int p = 1; p < n; ++p)
+    product(Kt.data() + 3 * p * ld, Kt.data() + 3 * p, At.data(), Y[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleVelocityJacobian()
@@ -808,11 +860,7 @@ void SuperHelix::assembleVelocityJacobian()
     Eigen::Matrix3d a, l, w;
   };
   thread_local std::vector<Maps> maps;
-  thread_local std::vector<Map39> G, LamM, LamF; // G_p, and Λ_{p+1} (tail torque, tail force)
   maps.resize(n);
-  G.resize(n);
-  LamM.resize(n);
-  LamF.resize(n);
   // Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]× = −2 Fg ωᵀ + ω Fgᵀ + (ω·Fg) I − 2 [J k̇]×
   // ([a × b]× = b aᵀ − a bᵀ, [a]× [b]× = b aᵀ − (a·b) I); linear in (Fg, J k̇).
   auto phi = [](const Eigen::Vector3d& om, const Eigen::Vector3d& fg, const Eigen::Vector3d& jkd)
@@ -878,90 +926,135 @@ void SuperHelix::assembleVelocityJacobian()
   // For a column block qe, the state S_p = [δa; δα; δω] (9 × 3) at the start of each later
   // element p evolves linearly, S_{p+1} = Prop_p S_p with
   //   Prop_p = [I, −[Fg_end]×, Φ_end; 0, I, −[A k̇]×; 0, 0, I],
-  // and element p contributes R_p = P_p S_p to its own row, [M_p; F_p] = Mm_p S_p to the
-  // tail torque and force felt by the rows before it (row p sees A_pᵀ tailM + W_pᵀ tailF).
+  // starting from S_{qe+1} = [Dac0; Dal0; A]_qe, and element p contributes R_p = P_p S_p to
+  // its own row, [M_p; F_p] = Mm_p S_p to the tail torque and force felt by the rows before
+  // it (row p sees A_pᵀ tailM + W_pᵀ tailF).
   // Backward, once: Λ_p = Mm_p + Λ_{p+1} Prop_p gives Σ_{p' >= p} [M_p'; F_p'] = Λ_p S_p, so
-  // row p > qe is C_p,qe = G_p S_p with G_p = −ρS (P_p + [A_pᵀ W_pᵀ] Λ_{p+1} Prop_p), independent
-  // of qe: a 3 × 9 by 9 × 3 product per block instead of propagating the tail sums.
+  // row p > qe is C_p,qe = G_p S_p with G_p = −ρS (P_p + [A_pᵀ W_pᵀ] Λ_{p+1} Prop_p),
+  // independent of qe. Carried backward as well, the stack Γ_m (rows p >= m: the 3 × 9 maps
+  // G_p Prop_{p−1} ⋯ Prop_m) gives the whole column block qe below the diagonal as ONE
+  // product Γ_{qe+1} S_{qe+1} over long columns, and Γ_m = [G_m; Γ_{m+1} Prop_m] is a
+  // product on long columns too (3 × 3 products block by block vectorize poorly).
+  // Above the diagonal the whole tail from qe acts rigidly, C_p,qe = A_pᵀ TM + W_pᵀ TF: one
+  // product B_{p<qe} [TM; TF] with B the 3N × 6 stack of the rows [A_pᵀ W_pᵀ].
+  // The buffers only grow: nothing is allocated per step.
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 6> B;
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 9> Gam; // rows 3p..3p+2: the row p of Γ_m
+  if (B.rows() < 3 * n)
   {
-    Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
-    Map39 lf = lm; // Λ_{p+1}: tail torque rows lm, tail force rows lf
-    for (int p = n - 1; p >= 0; --p)
-    {
-      const Maps& m = maps[p];
-      const Element& ep = k.elements[p];
-      LamM[p] = lm;
-      LamF[p] = lf;
-      // Λ_{p+1} Prop_p, block columns (δa, δα, δω); X [v]× = −([v]× Xᵀ)ᵀ.
-      auto prop = [&m](Map39& x)
-      {
-        x.w.noalias() += x.a * m.PhiEnd;
-        x.w.noalias() += crossCols(m.akd, x.l.transpose()).transpose();   // − l [A k̇]×
-        x.l.noalias() += crossCols(m.fgEnd, x.a.transpose()).transpose(); // − a [Fg_end]×
-      };
-      prop(lm);
-      prop(lf);
-      Map39& g = G[p];
-      g.a = m.Pc;
-      g.l = m.Pl;
-      g.w = m.Po;
-      g.a.noalias() += ep.A.transpose() * lm.a + ep.W.transpose() * lf.a;
-      g.l.noalias() += ep.A.transpose() * lm.l + ep.W.transpose() * lf.l;
-      g.w.noalias() += ep.A.transpose() * lm.w + ep.W.transpose() * lf.w;
-      g.a *= -RhoS;
-      g.l *= -RhoS;
-      g.w *= -RhoS;
-      // Λ_p = Mm_p + Λ_{p+1} Prop_p: tail torque [[Σ w r]×, Tl, To], force [Σ w I, −[Σ w Fg]×, So].
-      lm.a += skew(m.sumR);
-      lm.l += m.Tl;
-      lm.w += m.To;
-      lf.a.diagonal().array() += m.Sc;
-      lf.l -= skew(m.sumFg);
-      lf.w += m.So;
-    }
+    B.resize(3 * n, 6);
+    Gam.resize(3 * n, 9);
   }
-  for (int qe = 0; qe < n; ++qe)
+  for (int p = 0; p < n; ++p)
+  {
+    B.block<3, 3>(3 * p, 0) = k.elements[p].A.transpose();
+    B.block<3, 3>(3 * p, 3) = k.elements[p].W.transpose();
+  }
+  // dst(r, c) = Σ_{j < 6} src(r, j) z(j, c) for r < rows, c < 3 (column-major, z is 6 × 3):
+  // the three columns in one pass, vectorized over r. Eigen's lazy product on these dynamic
+  // blocks was measured slower than the 3 × 3 blocks.
+  const Eigen::Index ldc = C.rows(), ldg = Gam.rows(), ldb = B.rows();
+  auto product = [ldc, ldb](double* __restrict dst, const double* __restrict src,
+                            const double* __restrict z, int rows)
+  {
+    for (int r = 0; r < rows; ++r)
+    {
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int j = 0; j < 6; ++j)
+      {
+        const double x = src[j * ldb + r];
+        s0 += x * z[j];
+        s1 += x * z[6 + j];
+        s2 += x * z[12 + j];
+      }
+      dst[r] = s0;
+      dst[ldc + r] = s1;
+      dst[2 * ldc + r] = s2;
+    }
+  };
+  // One pass over the rows of Γ_{qe+1} (columns [a l w], rows r < rows): C's column block qe
+  // below the diagonal, dst(r, :) = Γ(r, :) S, then Γ_{qe+1} Prop_qe in place,
+  //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
+  auto lowerAndPropagate = [ldc, ldg](double* __restrict dst, double* __restrict g,
+                                      const double* __restrict S, const double* __restrict phi,
+                                      const Eigen::Vector3d& akd, const Eigen::Vector3d& fg,
+                                      int rows)
+  {
+    const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
+#pragma GCC ivdep // each pass reads and writes row r of Γ only
+    for (int r = 0; r < rows; ++r)
+    {
+      const double a0 = g[r], a1 = g[ldg + r], a2 = g[2 * ldg + r];
+      const double l0 = g[3 * ldg + r], l1 = g[4 * ldg + r], l2 = g[5 * ldg + r];
+      const double w0 = g[6 * ldg + r], w1 = g[7 * ldg + r], w2 = g[8 * ldg + r];
+      for (int c = 0; c < 3; ++c)
+      {
+        const double* const s = S + 9 * c;
+        dst[c * ldc + r] = a0 * s[0] + a1 * s[1] + a2 * s[2] + l0 * s[3] + l1 * s[4] + l2 * s[5] +
+                           w0 * s[6] + w1 * s[7] + w2 * s[8];
+      }
+      g[6 * ldg + r] = w0 + (a0 * phi[0] + a1 * phi[1] + a2 * phi[2]) - (l1 * v2 - l2 * v1);
+      g[7 * ldg + r] = w1 + (a0 * phi[3] + a1 * phi[4] + a2 * phi[5]) - (l2 * v0 - l0 * v2);
+      g[8 * ldg + r] = w2 + (a0 * phi[6] + a1 * phi[7] + a2 * phi[8]) - (l0 * v1 - l1 * v0);
+      g[3 * ldg + r] = l0 - (a1 * f2 - a2 * f1);
+      g[4 * ldg + r] = l1 - (a2 * f0 - a0 * f2);
+      g[5 * ldg + r] = l2 - (a0 * f1 - a1 * f0);
+    }
+  };
+  Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+  Map39 lf = lm; // Λ_{qe+1}: tail torque rows lm, tail force rows lf
+  for (int qe = n - 1; qe >= 0; --qe)
   {
     const Maps& mq = maps[qe];
-    // State at the start of element qe + 1.
-    Eigen::Matrix3d Dac = mq.Dac0, Dal = mq.Dal0, Dw = k.elements[qe].A;
+    const Element& eq = k.elements[qe];
+    // Column block qe. State at the start of element qe + 1, S = [Dac; Dal; Dw].
+    Eigen::Matrix<double, 9, 3> S;
+    S.topRows<3>() = mq.Dac0;
+    S.middleRows<3>(3) = mq.Dal0;
+    S.bottomRows<3>() = eq.A;
+    const auto Dac = S.topRows<3>(), Dal = S.middleRows<3>(3), Dw = S.bottomRows<3>();
     // Tail torque and force from the elements past qe.
-    const Map39 &lm = LamM[qe], &lf = LamF[qe];
     Eigen::Matrix3d HM, HF;
     HM.noalias() = lm.a * Dac + lm.l * Dal + lm.w * Dw;
     HF.noalias() = lf.a * Dac + lf.l * Dal + lf.w * Dw;
-    const Element& eq = k.elements[qe];
     Eigen::Matrix3d b = mq.ownR;
     b.noalias() += eq.A.transpose() * HM + eq.W.transpose() * HF;
     C.block<3, 3>(3 * qe, 3 * qe) = -RhoS * b;
-    // Rows p < qe: the whole tail from qe acts rigidly, C_p = A_pᵀ tailM + W_pᵀ tailF.
-    const Eigen::Matrix3d TM = -RhoS * (mq.ownM + HM), TF = -RhoS * (mq.ownF + HF);
-    for (int p = 0; p < qe; ++p)
+    // Rows p < qe: [TM; TF], the rigid tail's torque and force.
+    Eigen::Matrix<double, 6, 3> T;
+    T.topRows<3>() = -RhoS * (mq.ownM + HM);
+    T.bottomRows<3>() = -RhoS * (mq.ownF + HF);
+    double* const col = C.data() + 3 * qe * ldc;
+    product(col, B.data(), T.data(), 3 * qe);
+    // Rows p > qe: Γ_{qe+1} S; then Γ_{qe+1} Prop_qe (the rows of Γ_qe past qe).
+    lowerAndPropagate(col + 3 * qe + 3, Gam.data() + 3 * qe + 3, S.data(), mq.PhiEnd.data(), mq.akd,
+                      mq.fgEnd, 3 * (n - qe - 1));
+    // Λ_{qe+1} Prop_qe, block columns (δa, δα, δω): w += a Φ_end − l [A k̇]×, l −= a [Fg_end]×
+    // (w first: it uses the old l); X [v]× = −([v]× Xᵀ)ᵀ by column cross products.
+    auto prop = [&mq](Map39& x)
     {
-      const Element& ep = k.elements[p];
-      // Through a fixed-size temporary: assigning the product expression to the block of
-      // the dynamic C went through a non-inlined per-coefficient evaluator.
-      Eigen::Matrix3d blk;
-      blk.noalias() = ep.A.transpose() * TM;
-      blk.noalias() += ep.W.transpose() * TF;
-      C.block<3, 3>(3 * p, 3 * qe) = blk;
-    }
-    for (int p = qe + 1; p < n; ++p)
-    {
-      const Map39& g = G[p];
-      Eigen::Matrix3d blk;
-      blk.noalias() = g.a * Dac;
-      blk.noalias() += g.l * Dal;
-      blk.noalias() += g.w * Dw;
-      C.block<3, 3>(3 * p, 3 * qe) = blk;
-      if (p + 1 < n)
-      {
-        const Maps& m = maps[p];
-        Dac.noalias() += m.PhiEnd * Dw;
-        Dac -= crossCols(m.fgEnd, Dal);
-        Dal -= crossCols(m.akd, Dw);
-      }
-    }
+      x.w.noalias() += x.a * mq.PhiEnd;
+      x.w.noalias() += crossCols(mq.akd, x.l.transpose()).transpose();   // − l [A k̇]×
+      x.l.noalias() += crossCols(mq.fgEnd, x.a.transpose()).transpose(); // − a [Fg_end]×
+    };
+    prop(lm);
+    prop(lf);
+    // G_qe = −ρS (P_qe + [A_qeᵀ W_qeᵀ] Λ_{qe+1} Prop_qe): row qe of Γ_qe.
+    Eigen::Matrix3d ga = mq.Pc, gl = mq.Pl, gw = mq.Po;
+    ga.noalias() += eq.A.transpose() * lm.a + eq.W.transpose() * lf.a;
+    gl.noalias() += eq.A.transpose() * lm.l + eq.W.transpose() * lf.l;
+    gw.noalias() += eq.A.transpose() * lm.w + eq.W.transpose() * lf.w;
+    Gam.block<3, 3>(3 * qe, 0) = -RhoS * ga;
+    Gam.block<3, 3>(3 * qe, 3) = -RhoS * gl;
+    Gam.block<3, 3>(3 * qe, 6) = -RhoS * gw;
+    // Λ_qe = Mm_qe + Λ_{qe+1} Prop_qe: tail torque [[Σ w r]×, Tl, To], force [Σ w I, −[Σ w Fg]×,
+    // So].
+    lm.a += skew(mq.sumR);
+    lm.l += mq.Tl;
+    lm.w += mq.To;
+    lf.a.diagonal().array() += mq.Sc;
+    lf.l -= skew(mq.sumFg);
+    lf.w += mq.So;
   }
 }
 
