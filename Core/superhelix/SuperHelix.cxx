@@ -981,7 +981,9 @@ void SuperHelix::assembleVelocityJacobian()
                                       int rows)
   {
     const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC ivdep // each pass reads and writes row r of Γ only
+#endif
     for (int r = 0; r < rows; ++r)
     {
       const double a0 = g[r], a1 = g[ldg + r], a2 = g[2 * ldg + r];
@@ -1430,18 +1432,26 @@ Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, dou
   const int count = static_cast<int>(strands.size());
   std::vector<Status> results(strands.size());
   threads = std::max(1, std::min(threads, count));
+  // Threads take chunks of consecutive strands, so that the strand after the current one
+  // in a chunk is stepped by the same thread, later: while one strand computes, the next
+  // one's samples are brought in from memory (a strand's data is not in cache when
+  // hundreds are stepped in turn, and its loads are too scattered for the hardware's
+  // prefetcher). Prefetching a strand another thread may be stepping would read its
+  // buffers while they are swapped.
+  // Chunks of 8, smaller when there are few strands (at least four chunks per thread).
+  const int Chunk = std::max(1, std::min(8, count / (4 * threads)));
   std::atomic<int> next{0};
   auto work = [&]()
   {
-    for (int i = next++; i < count; i = next++)
+    for (int first = next.fetch_add(Chunk); first < count; first = next.fetch_add(Chunk))
     {
-      // The strand after this one is likely next on some thread: start bringing its samples
-      // in from memory while this one computes (a strand's data is not in cache when
-      // hundreds are stepped in turn, and its loads are too scattered for the hardware's
-      // prefetcher).
-      if (i + 1 < count)
-        strands[i + 1].prefetch();
-      results[i] = strands[i].advance(dt, tolerance);
+      const int last = std::min(count, first + Chunk);
+      for (int i = first; i < last; ++i)
+      {
+        if (i + 1 < last)
+          strands[i + 1].prefetch();
+        results[i] = strands[i].advance(dt, tolerance);
+      }
     }
   };
   if (threads == 1)
