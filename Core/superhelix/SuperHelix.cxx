@@ -29,9 +29,11 @@ namespace
 // 600 s) with an energy gain below 6e-5 J; with no explicit share (K_T from T = 0 up) the
 // falling-strand residual at dt = 1/8000 s is 4.5 × the explicit step's (docs/super-helix.md).
 constexpr double ExplicitTensionDivisor = 64;
-// Up to this size (3N) the step's matrix is factorized by the unblocked LU in solve();
-// measured faster than Eigen's blocked PartialPivLU at 3N = 30, slower at 3N = 60.
-constexpr int UnblockedLuMax = 45;
+// Up to this size (3N) the step's matrix is factorized by the unblocked LU in solve().
+// Measured against Eigen's blocked PartialPivLU (wavy strand, solve phase, alternating
+// runs): faster at 3N = 30; with its AVX2 version also at 3N = 60 (15–19 µs against
+// 25–32) and 3N = 120 (100 µs against 115–169). Larger systems use Eigen's.
+constexpr int UnblockedLuMax = 120;
 
 // x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
 // allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
@@ -1119,7 +1121,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
   {
-    // Large systems: Eigen's blocked LU (its GEMM kernels pay off from 3N ≈ 60 up).
+    // Large systems: Eigen's blocked LU (its cache blocking pays off past 3N = 120).
     Lu.compute(Lhs);
     const double pivotL = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(pivotL > 1e-30 * scale))
