@@ -88,6 +88,39 @@ double uniformSigned(std::mt19937& g)
 {
   return 2.0 * (static_cast<double>(g()) / 4294967296.0) - 1.0;
 }
+// dst(r, c) = Σ_{j < K} src(r, j) z(j, c) for r < rows and c < 3, column-major (src with
+// leading dimension lds, z K × 3 contiguous, dst with leading dimension ldd); with Mirror,
+// each row's three values also go to the transposed place, mirror[r ldd + c]. The three
+// columns in one pass, vectorized over r: the off-diagonal blocks of M, K_T and C as one
+// product over a long stack of rows (3 × 3 products block by block vectorize poorly, and
+// Eigen's lazy product on these dynamic blocks was measured slower than those).
+template <int K, bool Mirror>
+void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::Index ldd,
+                    const double* __restrict src, Eigen::Index lds, const double* __restrict z,
+                    int rows)
+{
+  for (int r = 0; r < rows; ++r)
+  {
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int j = 0; j < K; ++j)
+    {
+      const double x = src[j * lds + r];
+      s0 += x * z[j];
+      s1 += x * z[K + j];
+      s2 += x * z[2 * K + j];
+    }
+    dst[r] = s0;
+    dst[ldd + r] = s1;
+    dst[2 * ldd + r] = s2;
+    if (Mirror)
+    {
+      mirror[r * ldd] = s0;
+      mirror[r * ldd + 1] = s1;
+      mirror[r * ldd + 2] = s2;
+    }
+  }
+}
+
 // Solves a x = b in place for the column-major m × m matrix a (overwritten by its LU
 // factors, row interchanges in piv) and b (overwritten by x); returns the smallest pivot
 // magnitude (0 or NaN: singular, x not computed). Compiled twice, for AVX2 and for the
@@ -722,33 +755,11 @@ void SuperHelix::assemble()
     tailC += eC;
     tailTheta += eTheta;
   }
-  // Column block P above the diagonal, B_{Q<P} Z_P: the three columns in one pass, vectorized
-  // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
-  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
-  const Eigen::Index ld = M.rows(), ldb = B.rows();
-  auto product = [ld, ldb](double* __restrict col, double* __restrict row,
-                           const double* __restrict b, const double* __restrict z, int rows)
-  {
-    for (int r = 0; r < rows; ++r)
-    {
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (int j = 0; j < 6; ++j)
-      {
-        const double x = b[j * ldb + r];
-        s0 += x * z[j];
-        s1 += x * z[6 + j];
-        s2 += x * z[12 + j];
-      }
-      col[r] = s0;
-      col[ld + r] = s1;
-      col[2 * ld + r] = s2;
-      row[r * ld] = s0;
-      row[r * ld + 1] = s1;
-      row[r * ld + 2] = s2;
-    }
-  };
+  // Column block P above the diagonal, B_{Q<P} Z_P, and its transpose below.
+  const Eigen::Index ld = M.rows();
   for (int p = 1; p < n; ++p)
-    product(M.data() + 3 * p * ld, M.data() + 3 * p, B.data(), Z[p].data(), 3 * p);
+    stackedProduct<6, true>(M.data() + 3 * p * ld, M.data() + 3 * p, ld, B.data(), B.rows(),
+                            Z[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleTensionStiffness(double h)
@@ -806,33 +817,11 @@ void SuperHelix::assembleTensionStiffness(double h)
     Kt.block<3, 3>(3 * e, 3 * e) = 0.5 * (d + d.transpose());
     tailP += eP;
   }
-  // Column block P above the diagonal, At_{Q<P} Y_P: the three columns in one pass, vectorized
-  // over the rows (Eigen's lazy product on these dynamic blocks was measured slower than the
-  // 3 × 3 blocks); each row's three values also go to row block P below the diagonal.
-  const Eigen::Index ld = Kt.rows(), lda = At.rows();
-  auto product = [ld, lda](double* __restrict col, double* __restrict row,
-                           const double* __restrict at, const double* __restrict y, int rows)
-  {
-    for (int r = 0; r < rows; ++r)
-    {
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (int j = 0; j < 3; ++j)
-      {
-        const double x = at[j * lda + r];
-        s0 += x * y[j];
-        s1 += x * y[3 + j];
-        s2 += x * y[6 + j];
-      }
-      col[r] = s0;
-      col[ld + r] = s1;
-      col[2 * ld + r] = s2;
-      row[r * ld] = s0;
-      row[r * ld + 1] = s1;
-      row[r * ld + 2] = s2;
-    }
-  };
+  // Column block P above the diagonal, At_{Q<P} Y_P, and its transpose below.
+  const Eigen::Index ld = Kt.rows();
   for (int p = 1; p < n; ++p)
-    product(Kt.data() + 3 * p * ld, Kt.data() + 3 * p, At.data(), Y[p].data(), 3 * p);
+    stackedProduct<3, true>(Kt.data() + 3 * p * ld, Kt.data() + 3 * p, ld, At.data(), At.rows(),
+                            Y[p].data(), 3 * p);
 }
 
 void SuperHelix::assembleVelocityJacobian()
@@ -952,28 +941,7 @@ void SuperHelix::assembleVelocityJacobian()
     B.block<3, 3>(3 * p, 0) = k.elements[p].A.transpose();
     B.block<3, 3>(3 * p, 3) = k.elements[p].W.transpose();
   }
-  // dst(r, c) = Σ_{j < 6} src(r, j) z(j, c) for r < rows, c < 3 (column-major, z is 6 × 3):
-  // the three columns in one pass, vectorized over r. Eigen's lazy product on these dynamic
-  // blocks was measured slower than the 3 × 3 blocks.
-  const Eigen::Index ldc = C.rows(), ldg = Gam.rows(), ldb = B.rows();
-  auto product = [ldc, ldb](double* __restrict dst, const double* __restrict src,
-                            const double* __restrict z, int rows)
-  {
-    for (int r = 0; r < rows; ++r)
-    {
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (int j = 0; j < 6; ++j)
-      {
-        const double x = src[j * ldb + r];
-        s0 += x * z[j];
-        s1 += x * z[6 + j];
-        s2 += x * z[12 + j];
-      }
-      dst[r] = s0;
-      dst[ldc + r] = s1;
-      dst[2 * ldc + r] = s2;
-    }
-  };
+  const Eigen::Index ldc = C.rows(), ldg = Gam.rows();
   // One pass over the rows of Γ_{qe+1} (columns [a l w], rows r < rows): C's column block qe
   // below the diagonal, dst(r, :) = Γ(r, :) S, then Γ_{qe+1} Prop_qe in place,
   //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
@@ -1029,7 +997,7 @@ void SuperHelix::assembleVelocityJacobian()
     T.topRows<3>() = -RhoS * (mq.ownM + HM);
     T.bottomRows<3>() = -RhoS * (mq.ownF + HF);
     double* const col = C.data() + 3 * qe * ldc;
-    product(col, B.data(), T.data(), 3 * qe);
+    stackedProduct<6, false>(col, nullptr, ldc, B.data(), B.rows(), T.data(), 3 * qe);
     // Rows p > qe: Γ_{qe+1} S; then Γ_{qe+1} Prop_qe (the rows of Γ_qe past qe).
     lowerAndPropagate(col + 3 * qe + 3, Gam.data() + 3 * qe + 3, S.data(), mq.PhiEnd.data(), mq.akd,
                       mq.fgEnd, 3 * (n - qe - 1));

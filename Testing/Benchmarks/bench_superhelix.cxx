@@ -136,11 +136,12 @@ void BM_Phase_Solve(benchmark::State& state)
   }
 }
 
-void BM_StrandsPerSecond(benchmark::State& state)
+// `count` strands of N = 10, the four presets in turn, on the head shake, stepped together
+// on `threads` threads, one 1/30 s step per iteration (after 10 steps of warm-up).
+void stepMixedStrands(benchmark::State& state, int count, int threads)
 {
-  const int threads = static_cast<int>(state.range(0));
-  std::vector<SuperHelix> strands(256);
-  for (int i = 0; i < 256; ++i)
+  std::vector<SuperHelix> strands(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i)
     (void)strands[i].initialize(shakenStrand(static_cast<HairType>(i % 4), 10, i));
   for (int k = 0; k < 10; ++k)
     (void)stepStrands(strands, 1.0 / 30, threads);
@@ -153,31 +154,21 @@ void BM_StrandsPerSecond(benchmark::State& state)
       break;
     }
   }
-  state.SetItemsProcessed(state.iterations() * 256);
   state.counters["threads"] = threads;
+}
+
+void BM_StrandsPerSecond(benchmark::State& state)
+{
+  stepMixedStrands(state, 256, static_cast<int>(state.range(0)));
+  state.SetItemsProcessed(state.iterations() * 256);
 }
 
 // The purpose: 1000 guide strands (N = 10, the four presets in turn) in real time,
 // i.e. 30 frames of 1/30 s per second of wall time. items_per_second is frames per second.
 void BM_RealTimeGuides(benchmark::State& state)
 {
-  const int threads = static_cast<int>(state.range(0));
-  std::vector<SuperHelix> strands(1000);
-  for (int i = 0; i < 1000; ++i)
-    (void)strands[i].initialize(shakenStrand(static_cast<HairType>(i % 4), 10, i));
-  for (int k = 0; k < 10; ++k)
-    (void)stepStrands(strands, 1.0 / 30, threads);
-  for (auto _ : state)
-  {
-    Status st = stepStrands(strands, 1.0 / 30, threads);
-    if (!st)
-    {
-      state.SkipWithError(st.message().c_str());
-      break;
-    }
-  }
+  stepMixedStrands(state, 1000, static_cast<int>(state.range(0)));
   state.SetItemsProcessed(state.iterations());
-  state.counters["threads"] = threads;
 }
 
 // q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, recorded after the
