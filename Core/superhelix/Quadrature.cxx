@@ -79,6 +79,9 @@ ElementRule QuadratureChooser::choose(double turning) const
   const double theta = 2 * std::abs(turning);
   ElementRule best;
   best.points = MinPoints;
+  if (!std::isfinite(theta))
+    return best; // a non-finite state is refused by the step; never index with it
+
   best.intervals = std::numeric_limits<int>::max();
   int bestSamples = std::numeric_limits<int>::max();
   for (int n = MinPoints; n <= MaxPoints; ++n)

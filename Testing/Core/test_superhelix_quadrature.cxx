@@ -67,6 +67,10 @@ TEST(Quadrature, ChooserKeepsTheBoundAndReproducesTheFormerRule)
         << turning;
   }
   EXPECT_EQ(chooser.choose(0).samples(), 3); // straight elements: 3 points are exact
+  // A non-finite turning (never reached by a step, which refuses such states) gives the
+  // smallest rule instead of an undefined interval count.
+  EXPECT_EQ(chooser.choose(std::nan("")).samples(), 3);
+  EXPECT_EQ(chooser.choose(INFINITY).samples(), 3);
 }
 
 namespace
