@@ -162,10 +162,7 @@ private:
 /// curvature); friction and drag are off unless asked for.
 HairParameters roundHair(bool dissipation)
 {
-  HairParameters p = HairParameters::preset(HairType::Smooth);
-  p.ellipticity = 1;
-  p.helixRadius = p.helixStep = 0;
-  p.curvatureVariation = 0;
+  HairParameters p = HairParameters::roundStraight();
   if (!dissipation)
   {
     p.internalFriction = 0;

@@ -9,10 +9,7 @@ namespace hair
 
 ClumpSpec::ClumpSpec()
 {
-  hair = HairParameters::preset(HairType::Smooth);
-  hair.ellipticity = 1;
-  hair.helixRadius = hair.helixStep = 0;
-  hair.curvatureVariation = 0;
+  hair = HairParameters::roundStraight();
 }
 
 Status ClumpSpec::validate() const

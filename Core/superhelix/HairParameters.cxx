@@ -72,6 +72,15 @@ HairParameters HairParameters::preset(HairType type)
   return p;
 }
 
+HairParameters HairParameters::roundStraight()
+{
+  HairParameters p = preset(HairType::Smooth);
+  p.ellipticity = 1;
+  p.helixRadius = p.helixStep = 0;
+  p.curvatureVariation = 0;
+  return p;
+}
+
 namespace
 {
 Status bad(const char* name, double value, const char* expected, const char* advice)

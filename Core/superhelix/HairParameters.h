@@ -35,6 +35,9 @@ struct HairParameters
   double curvatureVariation = 0.0;
 
   static HairParameters preset(HairType type);
+  /// The smooth preset's material with a round section and no natural curvature or
+  /// variation: the straight fibre of the beam and contact checks.
+  static HairParameters roundStraight();
 
   /// Names the first parameter that is out of range, what is wrong, and what to do.
   Status validate() const;

@@ -23,14 +23,20 @@ namespace
 constexpr double Pi = 3.14159265358979323846;
 constexpr double Dt = 1.0 / 30;
 
-HairParameters roundHair()
+/// A sphere of radius 0.1 m at the origin with its spherical table, and a point 0.5 mm
+/// inside it: the scene of the single-sample response tests.
+struct SphereSample
 {
-  HairParameters p = HairParameters::preset(HairType::Smooth);
-  p.ellipticity = 1;
-  p.helixRadius = p.helixStep = 0;
-  p.curvatureVariation = 0;
-  return p;
-}
+  BodyPart part;
+  Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
+  SphereSample()
+  {
+    const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
+    TableSpec spec;
+    spec.projection = Projection::Spherical;
+    EXPECT_TRUE(part.table.build(spec, sphere).ok());
+  }
+};
 
 /// Installs the body contacts of `parts` (still) on a strand.
 void attach(SuperHelix& h, const BodyContacts& contacts, const std::vector<ContactBody>& bodies)
@@ -100,17 +106,13 @@ TEST(BodyContacts, ResponseIsTheDerivativeOfTheForce)
   // D against central differences of the force in v (the normal damping is linear in v, so
   // it must match to rounding); friction's D is the secant η P by design, checked as such:
   // the friction force is −η u_t.
-  const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
-  BodyPart part;
-  TableSpec spec;
-  spec.projection = Projection::Spherical;
-  ASSERT_TRUE(part.table.build(spec, sphere).ok());
+  const SphereSample scene;
   BodyContactParameters prm;
   prm.friction = 0;
   BodyContacts c;
   ASSERT_TRUE(c.setParameters(prm).ok());
-  const ContactBody body = ContactBody::still(part);
-  const Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
+  const ContactBody body = ContactBody::still(scene.part);
+  const Eigen::Vector3d& x = scene.x;
   const Eigen::Vector3d v(0.01, -0.02, 0.005), t = Eigen::Vector3d::UnitX();
   const double rhoS = 1e-5;
   ContactResponse r;
@@ -145,16 +147,13 @@ TEST(BodyContacts, FrictionActsOnTheVelocityRelativeToTheMovingBody)
   // Galilean invariance: a sample moving with a translating or rotating body feels no
   // friction, and adding the same velocity to the sample and the body changes nothing
   // (the look-ahead term k h n·v_b aside, which is set to zero here).
-  const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
-  BodyPart part;
-  TableSpec spec;
-  spec.projection = Projection::Spherical;
-  ASSERT_TRUE(part.table.build(spec, sphere).ok());
+  const SphereSample scene;
+  const BodyPart& part = scene.part;
   BodyContactParameters prm;
   prm.lookAhead = 0;
   BodyContacts c;
   ASSERT_TRUE(c.setParameters(prm).ok());
-  const Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
+  const Eigen::Vector3d& x = scene.x;
   const Eigen::Vector3d t = Eigen::Vector3d::UnitX(), w(0.3, -2.0, 0.5), v0(0.1, 0.05, -0.2);
   ContactBody body = ContactBody::still(part);
   body.velocity = v0;
@@ -198,7 +197,7 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   EXPECT_TRUE(part.table.build(spec, sphere).ok());
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
-  StrandSpec s = StrandSpec::uniform(L, 10, roundHair());
+  StrandSpec s = StrandSpec::uniform(L, 10, HairParameters::roundStraight());
   s.root = [R](double)
   {
     RootState r;
@@ -316,7 +315,7 @@ CapstanResult capstan(double mu, double anisotropy, double speed, int window, in
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
 
-  HairParameters hp = roundHair();
+  HairParameters hp = HairParameters::roundStraight();
   hp.youngModulus = 1e8; // a soft strand: bending is negligible against the tension
   StrandSpec s = StrandSpec::uniform(n * l, n, hp);
   s.gravity = Eigen::Vector3d(0, 0, -9.81);
@@ -425,8 +424,8 @@ TEST(SuperHelixBodyContacts, RopeSlidingOverADrumFollowsTheCapstanRelation)
   // tension ratio's departure from 1 is not used: 2 % of the tension itself.
   const double V = 0.02, eps = BodyContactParameters().slipVelocity;
   const double reg = V / std::sqrt(V * V + eps * eps);
-  const double w = roundHair().linearDensity() * 9.81, l = ElementLength;
-  const double drag = roundHair().airFriction * V;
+  const double w = HairParameters::roundStraight().linearDensity() * 9.81, l = ElementLength;
+  const double drag = HairParameters::roundStraight().airFriction * V;
   const int window = std::lround(2 * l / V / Dt); // two element passages
   // The root's travel at mid-window: half a second for the smooth start, then V.
   const double travel = V * (0.5 + 1 + 0.5 * window * Dt);
@@ -480,8 +479,8 @@ TEST(SuperHelixBodyContacts, SlidingTipFirstIsResistedMoreThanRootFirst)
   // μ_tip-first / μ_root-first = 1.5. Tolerances as in the capstan test.
   const double V = 0.02, eps = BodyContactParameters().slipVelocity;
   const double reg = V / std::sqrt(V * V + eps * eps);
-  const double w = roundHair().linearDensity() * 9.81, l = ElementLength;
-  const double drag = roundHair().airFriction * V;
+  const double w = HairParameters::roundStraight().linearDensity() * 9.81, l = ElementLength;
+  const double drag = HairParameters::roundStraight().airFriction * V;
   const int window = std::lround(2 * l / V / Dt);
   const double travel = V * (0.5 + 1 + 0.5 * window * Dt);
   const double a = 0.2, mu = 0.3;
@@ -510,7 +509,8 @@ TEST(SuperHelixBodyContacts, SlidingTipFirstIsResistedMoreThanRootFirst)
               capstanRootTension(mu * reg, w, DrumR, lLeftUp, lRightUp, false));
   // The light side's tension is small here (5e-6 N): bending, which enters at each end of
   // the wrap as O(EI/(R² T)) = 0.9 %, is no longer negligible; tolerance 2 % plus twice that.
-  const double EI = roundHair().stiffness()[1] / 10; // youngModulus 1e8 in capstan()
+  const double EI =
+      HairParameters::roundStraight().stiffness()[1] / 10; // youngModulus 1e8 in capstan()
   EXPECT_NEAR(upRich / expectUp, 1, 0.02 + 2 * EI / (DrumR * DrumR * expectUp));
   // The effective μ of each direction, solved from the measured tension by bisection on
   // the capstan equation, and their ratio.
@@ -565,7 +565,7 @@ double slide(double mu, double tanAlpha, double seconds)
   prm.anisotropy = 0; // sideways sliding: cos ψ = 0 anyway; isolate μ
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
-  HairParameters hp = roundHair();
+  HairParameters hp = HairParameters::roundStraight();
   hp.youngModulus = 1e8;
   StrandSpec s = StrandSpec::uniform(0.3, 10, hp);
   s.gravity = -9.81 * Eigen::Vector3d(std::cos(alpha), 0, std::sin(alpha));
@@ -644,7 +644,7 @@ Status sphereScene(const SimulationOptions& o, Simulation& sim, double& R)
   g.growth = Eigen::Vector3d::UnitX();
   g.length = 0.2;
   g.elements = 10;
-  g.hair = roundHair();
+  g.hair = HairParameters::roundStraight();
   return sim.initialize({g}, {part}, o);
 }
 } // namespace
@@ -704,7 +704,7 @@ TEST(SimulationBodyContacts, AdditionalContactsAddOnTopOfTheBodys)
   // the hook it falls onto the sphere (previous test).
   SimulationOptions o;
   Simulation sim;
-  const double rhoS = roundHair().linearDensity();
+  const double rhoS = HairParameters::roundStraight().linearDensity();
   int calls = 0;
   sim.setAdditionalContacts(
       [&](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)

@@ -10,25 +10,13 @@
 
 using namespace hair;
 
-namespace
-{
-HairParameters roundHair()
-{
-  HairParameters p = HairParameters::preset(HairType::Smooth);
-  p.ellipticity = 1;
-  p.helixRadius = p.helixStep = 0;
-  p.curvatureVariation = 0;
-  return p;
-}
-} // namespace
-
 TEST(SuperHelixLoads, TransverseTipLoadGivesTheBeamDeflection)
 {
   // δ/L = 1e-3 keeps the geometric nonlinearity at O(1e-6): linear theory is the reference.
   // The tip load's moment is linear in s, which N = 10 helical (constant-curvature)
   // elements represent with a midpoint error O(1/N²) ≈ 1 %·(1/1.2): tolerance 1 %.
   const double L = 0.1;
-  HairParameters p = roundHair();
+  HairParameters p = HairParameters::roundStraight();
   const double EI = p.stiffness()[2];
   const double P = 3 * EI * 1e-3 * L / (L * L * L);
   for (int n : {10, 20})
@@ -55,7 +43,7 @@ TEST(SuperHelixLoads, TransverseTipLoadGivesTheBeamDeflection)
 
 TEST(SuperHelixLoads, NonFiniteTipForceIsRefused)
 {
-  StrandSpec spec = StrandSpec::uniform(0.1, 3, roundHair());
+  StrandSpec spec = StrandSpec::uniform(0.1, 3, HairParameters::roundStraight());
   spec.tipForce.x() = std::nan("");
   SuperHelix h;
   const Status st = h.initialize(spec);
@@ -70,7 +58,7 @@ namespace
 // steps of dt.
 Status restOnFloor(double k, bool implicit, double dt, int steps, double& depth, double& rhoS)
 {
-  HairParameters p = roundHair();
+  HairParameters p = HairParameters::roundStraight();
   rhoS = p.linearDensity();
   StrandSpec spec = StrandSpec::uniform(0.2, 10, p);
   spec.gravity = Eigen::Vector3d(0, -9.81, 0);
