@@ -121,6 +121,31 @@ void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::In
   }
 }
 
+// dst[r · rowStride + c · colStride] += Σ_{j < K} src(r, j) z(j, c) for r < rows, c < 3 (src
+// column-major with leading dimension lds, z K × 3 contiguous): a stacked product added to
+// a block column (rowStride 1) or, transposed, to a block row (colStride 1).
+template <int K>
+void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride, Eigen::Index colStride,
+                       const double* __restrict src, Eigen::Index lds, const double* __restrict z,
+                       int rows)
+{
+  for (int r = 0; r < rows; ++r)
+  {
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int j = 0; j < K; ++j)
+    {
+      const double x = src[j * lds + r];
+      s0 += x * z[j];
+      s1 += x * z[K + j];
+      s2 += x * z[2 * K + j];
+    }
+    double* const d = dst + r * rowStride;
+    d[0] += s0;
+    d[colStride] += s1;
+    d[2 * colStride] += s2;
+  }
+}
+
 // Solves a x = b in place for the column-major m × m matrix a (overwritten by its LU
 // factors, row interchanges in piv) and b (overwritten by x); returns the smallest pivot
 // magnitude (0 or NaN: singular, x not computed). Compiled twice, for AVX2 and for the
@@ -1033,10 +1058,37 @@ void SuperHelix::assembleVelocityJacobian()
 void SuperHelix::addContactJacobians(double h)
 {
   // Backward Euler on the linearized contact force f − K h (v0 + J q̇ⁿ⁺¹) − D J (q̇ⁿ⁺¹ − q̇ⁿ):
-  //   Lhs += Σ w Jᵀ (h² K + h D) J,  Rhs += Σ w h Jᵀ (D J q̇ⁿ − h K v0).
-  // J of a sample in element e spans the columns of elements 0..e (O(e²) per sample in
-  // contact; samples out of contact cost nothing).
-  thread_local Eigen::Matrix3Xd J;
+  //   Lhs += Σ w Jᵀ S J,  S = h² K + h D,  Rhs += Σ w Jᵀ b,  b = h D J q̇ⁿ − h² K v0.
+  // A sample of element e has J_p = −[r]× A_p + W_p = H(r) Z_p for p < e, with
+  // H(r) = [−[r]×  I] (3 × 6) and Z_p = [A_p; W_p] (6 × 3), its own block J_e, and 0 past e.
+  // So only per-element moments of the samples in contact are summed,
+  //   Φ_e = Σ w Hᵀ S H (6 × 6), Ψ_e = Σ w Hᵀ S J_e, Ψ'_e = Σ w J_eᵀ S H, Ω_e = Σ w J_eᵀ S J_e,
+  //   β_e = Σ w Hᵀ b, γ_e = Σ w J_eᵀ b,
+  // and with the tail T_q = Σ_{e > q} Φ_e (and β's), for p < q:
+  //   block(p, q) = Z_pᵀ (T_q Z_q + Ψ_q),  block(q, p) = (Z_qᵀ T_q + Ψ'_q) Z_p,
+  //   block(q, q) = Z_qᵀ T_q Z_q + Ω_q,   Rhs_q = Z_qᵀ Σ_{e > q} β_e + γ_q:
+  // O(N²) per strand plus O(1) per sample in contact, like the mass matrix. (Forming
+  // Σ w Jᵀ S J sample by sample costs O(e²) per sample: a 40-element strand lying on the
+  // scalp took 3 × the step without contacts.) S need not be symmetric (friction).
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  using Mat63 = Eigen::Matrix<double, 6, 3>;
+  using Mat36 = Eigen::Matrix<double, 3, 6>;
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  struct Moments
+  {
+    Mat6 phi;
+    Mat63 psi;
+    Mat36 psiT;
+    Eigen::Matrix3d omega;
+    Vec6 beta;
+    Eigen::Vector3d gamma;
+  };
+  const int n = elementCount();
+  thread_local std::vector<Moments> mom;
+  thread_local std::vector<char> touched;
+  mom.resize(n);
+  touched.assign(n, 0);
+  int last = -1;
   for (size_t j = 0; j < Cur.nodes.size(); ++j)
   {
     const Node& nd = Cur.nodes[j];
@@ -1045,28 +1097,87 @@ void SuperHelix::addContactJacobians(double h)
     // K and D stay in the hook's buffer (hasK/hasD are set only from it, this step).
     const Eigen::Matrix3d& contactK = ContactBuffer[j].stiffness;
     const Eigen::Matrix3d& contactD = ContactBuffer[j].damping;
-    const int e = nd.element;
-    const int cols = 3 * (e + 1);
-    J.resize(3, cols);
-    for (int p = 0; p < e; ++p)
-      for (int i = 0; i < 3; ++i)
-        J.col(3 * p + i) = Cur.elements[p].A.col(i).cross(nd.r) + Cur.elements[p].W.col(i);
-    J.middleCols<3>(3 * e) = nd.J;
     Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     if (nd.hasK)
     {
-      S += h * h * contactK;
-      b -= h * h * (contactK * nd.v0);
+      S += (nd.w * h * h) * contactK;
+      b -= (nd.w * h * h) * (contactK * nd.v0);
     }
     if (nd.hasD)
     {
-      S += h * contactD;
-      b += h * (contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
+      S += (nd.w * h) * contactD;
+      b += (nd.w * h) * (contactD * (nd.v - nd.v0)); // J q̇ⁿ = v − v0
     }
-    const Eigen::Matrix3Xd SJ = nd.w * (S * J);
-    Lhs.topLeftCorner(cols, cols).noalias() += J.transpose() * SJ;
-    Rhs.head(cols).noalias() += J.transpose() * (nd.w * b);
+    const int e = nd.element;
+    Moments& m = mom[e];
+    if (!touched[e])
+    {
+      m.phi.setZero();
+      m.psi.setZero();
+      m.psiT.setZero();
+      m.omega.setZero();
+      m.beta.setZero();
+      m.gamma.setZero();
+      touched[e] = 1;
+    }
+    last = std::max(last, e);
+    // S H = [−S [r]×  S] and Hᵀ X = [[r]× X; X] ((−[r]×)ᵀ = [r]×); −X [r]× = ([r]× Xᵀ)ᵀ.
+    const Eigen::Matrix3d SR = crossCols(nd.r, S.transpose()).transpose(); // −S [r]×
+    const Eigen::Matrix3d SJ = S * nd.J, JtS = nd.J.transpose() * S;
+    m.phi.block<3, 3>(0, 0) += crossCols(nd.r, SR);
+    m.phi.block<3, 3>(0, 3) += crossCols(nd.r, S);
+    m.phi.block<3, 3>(3, 0) += SR;
+    m.phi.block<3, 3>(3, 3) += S;
+    m.psi.topRows<3>() += crossCols(nd.r, SJ);
+    m.psi.bottomRows<3>() += SJ;
+    m.psiT.leftCols<3>() += crossCols(nd.r, JtS.transpose()).transpose(); // −Jᵀ S [r]×
+    m.psiT.rightCols<3>() += JtS;
+    m.omega.noalias() += JtS * nd.J;
+    m.beta.head<3>() += nd.r.cross(b);
+    m.beta.tail<3>() += b;
+    m.gamma.noalias() += nd.J.transpose() * b;
+  }
+  if (last < 0)
+    return;
+  // The stack of the rows Z_pᵀ = [A_pᵀ W_pᵀ], as for M and C.
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 6> B;
+  if (B.rows() < 3 * n)
+    B.resize(3 * n, 6);
+  for (int p = 0; p <= last; ++p)
+  {
+    B.block<3, 3>(3 * p, 0) = Cur.elements[p].A.transpose();
+    B.block<3, 3>(3 * p, 3) = Cur.elements[p].W.transpose();
+  }
+  const Eigen::Index ld = Lhs.rows(), lds = B.rows();
+  Mat6 T = Mat6::Zero();
+  Vec6 tailBeta = Vec6::Zero();
+  for (int q = last; q >= 0; --q)
+  {
+    Mat63 Z;
+    Z.topRows<3>() = Cur.elements[q].A;
+    Z.bottomRows<3>() = Cur.elements[q].W;
+    Mat63 upper = T * Z;             // T_q Z_q (+ Ψ_q below)
+    Mat36 lower = Z.transpose() * T; // Z_qᵀ T_q (+ Ψ'_q below)
+    Eigen::Matrix3d diag = Z.transpose() * upper;
+    Eigen::Vector3d rhs = Z.transpose() * tailBeta;
+    if (touched[q])
+    {
+      const Moments& m = mom[q];
+      upper += m.psi;
+      lower += m.psiT;
+      diag += m.omega;
+      rhs += m.gamma;
+      T += m.phi;
+      tailBeta += m.beta;
+    }
+    Lhs.block<3, 3>(3 * q, 3 * q) += diag;
+    Rhs.segment<3>(3 * q) += rhs;
+    // Rows p < q of column block q, and columns p < q of row block q (transposed: the
+    // same stacked product with lowerᵀ, written to the mirrored places).
+    const Eigen::Matrix<double, 6, 3> lowerT = lower.transpose();
+    stackedProductAdd<6>(Lhs.data() + 3 * q * ld, 1, ld, B.data(), lds, upper.data(), 3 * q);
+    stackedProductAdd<6>(Lhs.data() + 3 * q, ld, 1, B.data(), lds, lowerT.data(), 3 * q);
   }
 }
 
