@@ -5,6 +5,12 @@
 //                                 contacts (1) or without (0), side by side, from the same
 //                                 state (1 s into the shake with contacts)
 //   BM_Respond/<guides>           BodyContacts::respond alone for every guide's samples
+//   BM_StrandInContact/<N>/<contacts>  one step of one wavy strand (30 cm, N elements), every
+//                                 sample in contact (1: a synthetic response with stiffness
+//                                 and non-symmetric damping, no force) or none (0): what the
+//                                 implicit contact terms cost a strand lying on the scalp. No
+//                                 gravity and a fixed root: the strand rests in its natural
+//                                 shape in both variants, so they take the same steps.
 #include "projective/ProjectiveScenes.h"
 #include "simulation/Simulation.h"
 #include "strands/RootSampling.h"
@@ -139,6 +145,51 @@ void BM_Respond(benchmark::State& state)
   state.SetItemsProcessed(state.iterations() * samples.size());
 }
 
+void BM_StrandInContact(benchmark::State& state)
+{
+  const int n = static_cast<int>(state.range(0));
+  const bool contacts = state.range(1) != 0;
+  StrandSpec spec = StrandSpec::uniform(0.3, n, HairParameters::preset(HairType::Wavy));
+  spec.gravity.setZero();
+  SuperHelix warm;
+  if (!warm.initialize(spec))
+  {
+    state.SkipWithError("initialize failed");
+    return;
+  }
+  if (contacts)
+    warm.setContactForces(
+        [](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)
+        {
+          const Eigen::Vector3d up(0, 1, 0);
+          for (size_t i = 0; i < s.size(); ++i)
+          {
+            r[i].stiffness = 10 * up * up.transpose();
+            r[i].damping = 1e-3 * Eigen::Matrix3d::Identity();
+            r[i].damping(0, 1) = 2e-4;
+          }
+        });
+  for (int i = 0; i < 10; ++i)
+    (void)warm.step(1.0 / 30);
+  SuperHelix h = warm;
+  int steps = 0;
+  for (auto _ : state)
+  {
+    if (++steps % 30 == 0)
+    {
+      state.PauseTiming();
+      h = warm;
+      state.ResumeTiming();
+    }
+    const Status st = h.step(1.0 / 30);
+    if (!st)
+    {
+      state.SkipWithError(st.message().c_str());
+      break;
+    }
+  }
+  state.SetLabel(contacts ? "every sample in contact" : "no contacts");
+}
 void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int guides : {200, 1000, 5000})
@@ -148,6 +199,7 @@ void stepArgs(benchmark::internal::Benchmark* b)
 } // namespace
 
 BENCHMARK(BM_Step)->Apply(stepArgs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_StrandInContact)->ArgsProduct({{10, 20, 40}, {0, 1}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Respond)->Arg(200)->Arg(1000)->Arg(5000)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
