@@ -1,9 +1,11 @@
 // Cost of hair–body contacts in the Super-Helix step (docs/superhelix-contacts.md has the
 // table and the command), on the demo's scene: guides on the bundled scalp (wavy, 30 cm,
 // N = 10, combed), the head shaking ±0.5 rad at 1 Hz, head and trunk tables.
-//   BM_Step/<guides>/<contacts>   one step of 1/30 s of every guide on one thread, with
-//                                 contacts (1) or without (0), side by side, from the same
-//                                 state (1 s into the shake with contacts)
+//   BM_Step/<guides>/<contacts>/<threads>  one step of 1/30 s of every guide on 1 or 2
+//                                 threads, with contacts (1) or without (0), side by side,
+//                                 from the same state (1 s into the shake with contacts);
+//                                 on 2 threads read the wall time ("Time"): frames per
+//                                 second = 1000 / Time in ms (30 is real time)
 //   BM_Respond/<guides>           BodyContacts::respond alone for every guide's samples
 //   BM_StrandInContact/<N>/<contacts>  one step of one wavy strand (30 cm, N elements), every
 //                                 sample in contact (1: a synthetic response with stiffness
@@ -100,13 +102,14 @@ void BM_Step(benchmark::State& state)
 {
   Scene& s = scene(static_cast<int>(state.range(0)));
   const bool contacts = state.range(1) != 0;
+  const int threads = static_cast<int>(state.range(2));
   std::vector<SuperHelix> strands = s.strands; // the same state for both variants
   for (SuperHelix& h : strands)
     h.setContactForces(contacts ? s.hook() : ContactForces());
   double substeps = 0;
   for (auto _ : state)
   {
-    const Status st = stepStrands(strands, 1.0 / 30, 1);
+    const Status st = stepStrands(strands, 1.0 / 30, threads);
     if (!st)
     {
       state.SkipWithError(st.message().c_str());
@@ -194,7 +197,9 @@ void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int guides : {200, 1000, 5000})
     for (int contacts : {0, 1})
-      b->Args({guides, contacts});
+      b->Args({guides, contacts, 1});
+  for (int contacts : {0, 1})
+    b->Args({1000, contacts, 2});
 }
 } // namespace
 
