@@ -304,6 +304,13 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   }
   const Eigen::Vector3d local = Basis.transpose() * (p - Spec.frame.origin);
   const int na = Spec.azimuthSamples, ns = Spec.secondSamples;
+  // Outside a cylindrical table's heights nothing is covered: answer before the azimuth's
+  // arctangent (most of a trunk table's queries from hair on the head end here).
+  if (Spec.projection == Projection::Cylindrical &&
+      (local.z() < Spec.heightMin || local.z() > Spec.heightMax))
+  {
+    return q;
+  }
 
   // Azimuth: periodic. (Wrapped by comparisons, not %, and radii by sqrt, not hypot: this is
   // the hot path of every collision test.)
@@ -327,10 +334,6 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   const double rxy = std::sqrt(local.x() * local.x() + local.y() * local.y());
   if (Spec.projection == Projection::Cylindrical)
   {
-    if (local.z() < Spec.heightMin || local.z() > Spec.heightMax)
-    {
-      return q;
-    }
     v = (local.z() - Spec.heightMin) * SecondScale;
     radius = rxy;
     const double inv = 1 / radius;
