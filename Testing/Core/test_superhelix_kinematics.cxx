@@ -8,8 +8,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -82,6 +84,62 @@ TEST(SuperHelixKinematics, SeriesAndClosedFormsAgreeAtTheSwitch)
   EXPECT_DOUBLE_EQ(z.phi1, 0.5);
   EXPECT_DOUBLE_EQ(z.psi1, -1.0 / 12);
   EXPECT_DOUBLE_EQ(z.chi2, 1.0 / 630);
+}
+
+TEST(SuperHelixKinematics, SeriesBandsGiveTheFullSeriesToRoundOff)
+{
+  // Below 1.5 the coefficients are Taylor series with fewer terms for smaller |x| (8, 10, 11
+  // terms below 0.5, 1, 1.5). Against the series summed to 25 terms in long double, on a
+  // grid that crosses the band limits, they must be exact to 2 ε relative (the double
+  // Horner evaluation itself is ~1 ε; two terms too few would leave ≥ 2e-14 near a limit).
+  const double eps = std::numeric_limits<double>::epsilon();
+  auto reference = [](double xd)
+  {
+    const long double y = static_cast<long double>(xd) * xd;
+    std::array<long double, 7> r{};
+    for (int m = 24; m >= 0; --m)
+    {
+      long double f = 1; // (2m + 1)!
+      for (int j = 2; j <= 2 * m + 1; ++j)
+        f *= j;
+      const long double sg = (m % 2 == 0) ? 1 : -1, a = 2 * m + 2, b = 2 * m + 3, c = 2 * m + 4,
+                        d = 2 * m + 5, e = 2 * m + 6, g = 2 * m + 7;
+      const std::array<long double, 7> t = {sg / f,
+                                            sg / (f * a),
+                                            sg / (f * a * b),
+                                            -sg * a / (f * a * b * c),
+                                            -sg * a / (f * a * b * c * d),
+                                            sg * c * a / (f * a * b * c * d * e),
+                                            sg * c * a / (f * a * b * c * d * e * g)};
+      for (int i = 0; i < 7; ++i)
+        r[i] = r[i] * y + t[i];
+    }
+    return r;
+  };
+  std::vector<double> xs;
+  for (int i = 0; i < 3000; ++i)
+    xs.push_back(1.5 * i / 3000);
+  for (double lim : {0.5, 1.0, 1.5})
+    for (double d : {1e-15, 1e-12, 1e-9, 1e-6})
+    {
+      xs.push_back(lim - d);
+      if (lim < 1.5)
+        xs.push_back(lim + d);
+    }
+  xs.push_back(std::nextafter(0.5, 0.0));
+  xs.push_back(std::nextafter(1.0, 0.0));
+  xs.push_back(std::nextafter(1.5, 0.0));
+  for (double x : xs)
+  {
+    const auto r = reference(x);
+    for (double sx : {x, -x}) // even functions
+    {
+      const HelixCoefficients h = helixCoefficients(sx);
+      const double* v = &h.phi0;
+      for (int i = 0; i < 7; ++i)
+        EXPECT_LE(std::abs(v[i] - r[i]) / std::abs(r[i]), 2 * eps) << "x = " << sx << " i = " << i;
+    }
+  }
 }
 
 namespace
