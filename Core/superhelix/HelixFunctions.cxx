@@ -120,40 +120,50 @@ HelixCoefficients helixCoefficients(double x)
 void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixPoint& out,
                 HelixCoefficients* coefficients)
 {
+  // Written out in scalars, sharing the products (Eigen's 3-vector expressions did not).
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double v0 = kd.x(), v1 = kd.y(), v2 = kd.z();
   const double om2 = k.squaredNorm();
-  const HelixCoefficients h = helixCoefficients(std::sqrt(om2) * u);
+  const HelixCoefficients h = hair::coefficients(std::sqrt(om2) * u);
   if (coefficients)
     *coefficients = h;
-  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u;
+  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
   const double a = u2 * h.phi1, b = u3 * h.phi2;
   const double da = u4 * h.psi1, db = u5 * h.psi2; // (da/dΩ)/Ω, (db/dΩ)/Ω
-  const Eigen::Vector3d e0 = Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d kxe0(0, k.z(), -k.y());   // k × e0
-  const Eigen::Vector3d w = k * k.x() - om2 * e0; // k × (k × e0)
-  out.g = u * e0 + a * kxe0 + b * w;
-  // ∂g/∂k_i = k_i (da k×e0 + db w) + a e_i×e0 + b (k0 e_i − 2 k_i e0 + δ_i0 k), written out
-  // (e0×e0 = 0, e1×e0 = −e2, e2×e0 = e1): per sample, the generic column loop cost ~3×.
-  const Eigen::Vector3d z = da * kxe0 + db * w;
-  out.dg.col(0) = k.x() * z;
-  out.dg.col(1) = k.y() * z;
-  out.dg.col(2) = k.z() * z;
-  out.dg(1, 0) += b * k.y();
-  out.dg(2, 0) += b * k.z();
-  out.dg(0, 1) -= 2 * b * k.y();
-  out.dg(1, 1) += b * k.x();
-  out.dg(2, 1) -= a;
-  out.dg(0, 2) -= 2 * b * k.z();
-  out.dg(1, 2) += a;
-  out.dg(2, 2) += b * k.x();
-  // Second derivative along kd.
-  const double p = k.dot(kd), vv = kd.squaredNorm();
-  const double u6 = u3 * u3, u7 = u6 * u;
-  const double dda = u6 * h.chi1 * p * p + u4 * h.psi1 * vv;
-  const double ddb = u7 * h.chi2 * p * p + u5 * h.psi2 * vv;
-  const double da1 = da * p, db1 = db * p;
-  const Eigen::Vector3d vxe0(0, kd.z(), -kd.y());
-  out.d2g = dda * kxe0 + 2 * da1 * vxe0 + ddb * w +
-            2 * db1 * (kd * k.x() + k * kd.x() - 2 * p * e0) + b * (2 * kd.x() * kd - 2 * vv * e0);
+  // k × e0 = (0, k2, −k1); w = k × (k × e0) = k k0 − Ω² e0, with w0 = −(k1² + k2²) summed
+  // directly (no cancellation when k is nearly along e0).
+  const double w0 = -(k1 * k1 + k2 * k2), w1 = k1 * k0, w2 = k2 * k0;
+  // g = u e0 + a k×e0 + b w.
+  out.g = Eigen::Vector3d(u + b * w0, a * k2 + b * w1, b * w2 - a * k1);
+  // ∂g/∂k_i = k_i (da k×e0 + db w) + a e_i×e0 + b (k0 e_i − 2 k_i e0 + δ_i0 k)
+  // (e0×e0 = 0, e1×e0 = −e2, e2×e0 = e1).
+  const double z0 = db * w0, z1 = da * k2 + db * w1, z2 = db * w2 - da * k1;
+  const double bk0 = b * k0, b2 = 2 * b;
+  Eigen::Matrix3d& dg = out.dg;
+  dg(0, 0) = k0 * z0;
+  dg(1, 0) = k0 * z1 + b * k1;
+  dg(2, 0) = k0 * z2 + b * k2;
+  dg(0, 1) = k1 * z0 - b2 * k1;
+  dg(1, 1) = k1 * z1 + bk0;
+  dg(2, 1) = k1 * z2 - a;
+  dg(0, 2) = k2 * z0 - b2 * k2;
+  dg(1, 2) = k2 * z1 + a;
+  dg(2, 2) = k2 * z2 + bk0;
+  // Second derivative along v = kd, with p = k·v:
+  //   D²g[v, v] = dda k×e0 + 2 da p v×e0 + ddb w + 2 db p (v k0 + k v0 − 2 p e0)
+  //               + b (2 v0 v − 2 |v|² e0),
+  // dda = u⁶ χ1 p² + da |v|², ddb = u⁷ χ2 p² + db |v|². Components 1, 2 grouped as
+  //   k_i (ddb k0 + 2 db p v0) + v_i (2 db p k0 + 2 b v0) + (dda k×e0 + 2 da p v×e0)_i,
+  // component 0 with v0 k0 − p = −(k1 v1 + k2 v2) and v0² − |v|² = −(v1² + v2²).
+  const double kv12 = k1 * v1 + k2 * v2, vv12 = v1 * v1 + v2 * v2;
+  const double p = k0 * v0 + kv12, vv = v0 * v0 + vv12;
+  const double dda = u6 * h.chi1 * p * p + da * vv;
+  const double ddb = u7 * h.chi2 * p * p + db * vv;
+  const double da2 = 2 * (da * p), db2 = 2 * (db * p);
+  const double m1 = ddb * k0 + db2 * v0, m2 = db2 * k0 + b2 * v0;
+  out.d2g = Eigen::Vector3d(ddb * w0 - 2 * (db2 * kv12 + b * vv12),
+                            k1 * m1 + v1 * m2 + (dda * k2 + da2 * v2),
+                            k2 * m1 + v2 * m2 - (dda * k1 + da2 * v1));
 }
 
 void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixEnd& out)
