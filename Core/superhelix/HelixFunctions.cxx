@@ -191,40 +191,69 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& v, double u,
                    Eigen::Matrix3d& d2gW, Eigen::Matrix3d* dGkW,
                    const HelixCoefficients* coefficients)
 {
-  // Polarization of the quadratic forms in helixPoint / helixEnd.
-  const double om2 = k.squaredNorm();
-  const HelixCoefficients h = coefficients ? *coefficients : helixCoefficients(std::sqrt(om2) * u);
+  // Polarization of the quadratic forms in helixPoint / helixEnd, written out in scalars.
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double v0 = v.x(), v1 = v.y(), v2 = v.z();
+  const HelixCoefficients h =
+      coefficients ? *coefficients : hair::coefficients(std::sqrt(k.squaredNorm()) * u);
   const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
-  const Eigen::Vector3d e0 = Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d kxe0(0, k.z(), -k.y());
-  const Eigen::Vector3d wk = k * k.x() - om2 * e0;
-  const Eigen::Vector3d vxe0(0, v.z(), -v.y());
-  const double pv = k.dot(v);
-  const Eigen::Vector3d kxv = k.cross(v);
+  // Partial sums over the other two components (k·v − k_i v_i, |k|² − k_i²).
+  const double kv12 = k1 * v1 + k2 * v2, kk12 = k1 * k1 + k2 * k2;
+  const double pv = k0 * v0 + kv12;
   const double c1 = u4 * h.psi1, c2 = u5 * h.psi2, c3 = u3 * h.phi2;
-  // Column i of d2gW (w = e_i, so k·w = k_i, v·w = v_i), as outer products:
-  //   (u6 χ1 pv k_i + c1 v_i) k×e0 + c1 (pv e_i×e0 + k_i v×e0)
-  //   + (u7 χ2 pv k_i + c2 v_i) wk + c2 (pv (k0 e_i + δ_i0 k − 2 k_i e0) + k_i (v k0 + k v0 − 2 pv
-  //   e0))
-  //   + c3 (δ_i0 v + v0 e_i − 2 v_i e0)
-  const Eigen::Vector3d t = v * k.x() + k * v.x() - 2 * pv * e0;
-  d2gW.noalias() = kxe0 * (u6 * h.chi1 * pv * k + c1 * v).transpose() +
-                   wk * (u7 * h.chi2 * pv * k + c2 * v).transpose() +
-                   (c1 * vxe0 + c2 * t) * k.transpose();
-  d2gW.col(0) += c2 * pv * k + c3 * v;
-  d2gW.row(0) -= (2 * c2 * pv) * k.transpose() + (2 * c3) * v.transpose();
-  d2gW.diagonal().array() += c2 * pv * k.x() + c3 * v.x();
-  d2gW(2, 1) -= c1 * pv; // e1 × e0 = −e2
-  d2gW(1, 2) += c1 * pv; // e2 × e0 = e1
-  if (dGkW)
-    for (int i = 0; i < 3; ++i)
-    {
-      const Eigen::Vector3d w = Eigen::Vector3d::Unit(i);
-      const double pw = k[i];
-      const Eigen::Vector3d kxw = k.cross(w);
-      dGkW->col(i) = 0.5 * (u4 * h.psi1 * (pw * kxv + pv * kxw) +
-                            u5 * h.psi2 * (pw * k.cross(kxv) + pv * k.cross(kxw)) +
-                            u3 * h.phi2 * (w.cross(kxv) + v.cross(kxw)));
-    }
+  // Column j of d2gW is D²g[v, e_j] (k·e_j = k_j, v·e_j = v_j):
+  //   (u6 χ1 pv k_j + c1 v_j) k×e0 + c1 (pv e_j×e0 + k_j v×e0)
+  //   + (u7 χ2 pv k_j + c2 v_j) wk + c2 (pv (k0 e_j + δ_j0 k − 2 k_j e0) + k_j t)
+  //   + c3 (δ_j0 v + v0 e_j − 2 v_j e0),
+  // with k×e0 = (0, k2, −k1), wk = k k0 − Ω² e0, v×e0 = (0, v2, −v1), t = v k0 + k v0 − 2 pv e0.
+  // Collected: d2gW = α kᵀ + β vᵀ + (c2 pv k + c3 v) e0ᵀ + (c2 pv k0 + c3 v0) I
+  //                   + c1 pv (e1 e2ᵀ − e2 e1ᵀ), with Q0 = u7 χ2 pv k0 + c2 v0, n = c2 k0,
+  //   α = (u7 χ2 pv wk0 − 2 c2 (kv12 + pv), u6 χ1 pv k2 + c1 v2 + k1 Q0 + n v1,
+  //        k2 Q0 + n v2 − u6 χ1 pv k1 − c1 v1),
+  //   β = (c2 wk0 − 2 c3, c1 k2 + n k1, n k2 − c1 k1),
+  // where wk0 = −(k1² + k2²) and v0 k0 − 2 pv = −(kv12 + pv).
+  const double al = u6 * h.chi1 * pv, be = u7 * h.chi2 * pv;
+  const double w0 = -kk12;
+  const double Q0 = be * k0 + c2 * v0, n = c2 * k0;
+  const double c2pv = c2 * pv, c1pv = c1 * pv;
+  const double A0 = be * w0 - 2 * c2 * (kv12 + pv), B0 = c2 * w0 - 2 * c3;
+  const double A1 = al * k2 + c1 * v2 + (k1 * Q0 + n * v1), B1 = c1 * k2 + n * k1;
+  const double A2 = k2 * Q0 + n * v2 - (al * k1 + c1 * v1), B2 = n * k2 - c1 * k1;
+  const double dI = c2pv * k0 + c3 * v0;
+  d2gW(0, 0) = A0 * k0 + B0 * v0 + 2 * dI;
+  d2gW(1, 0) = A1 * k0 + B1 * v0 + (c2pv * k1 + c3 * v1);
+  d2gW(2, 0) = A2 * k0 + B2 * v0 + (c2pv * k2 + c3 * v2);
+  d2gW(0, 1) = A0 * k1 + B0 * v1;
+  d2gW(1, 1) = A1 * k1 + B1 * v1 + dI;
+  d2gW(2, 1) = A2 * k1 + B2 * v1 - c1pv;
+  d2gW(0, 2) = A0 * k2 + B0 * v2;
+  d2gW(1, 2) = A1 * k2 + B1 * v2 + c1pv;
+  d2gW(2, 2) = A2 * k2 + B2 * v2 + dI;
+  if (!dGkW)
+    return;
+  // Column i of dGkW, w = e_i (K = [k]×, so k×e_i = K e_i, k×(k×e_i) = K² e_i):
+  //   ½ (c1 (k_i k×v + pv K e_i) + c2 (k_i k×(k×v) + pv K² e_i) + c3 (e_i×(k×v) + v×(K e_i)))
+  // = k_i q + z_i k + [s]× e_i off the diagonal, with q = ½ (c1 k×v + c2 k×(k×v)),
+  //   z = ½ (c2 pv k + c3 v), s = ½ (c1 pv k − c3 k×v), since K² = k kᵀ − Ω² I,
+  //   v×(k×e_i) = k v_i − (k·v) e_i and e_i×a = −[a]× e_i.
+  // The diagonal's −Ω² and −(k·v) parts are summed over the other two components, as the
+  // cross products give them (no cancellation when one component of k dominates).
+  Eigen::Matrix3d& D = *dGkW;
+  const double h1 = 0.5 * c1, h2 = 0.5 * c2, h3 = 0.5 * c3;
+  const double x0 = k1 * v2 - k2 * v1, x1 = k2 * v0 - k0 * v2, x2 = k0 * v1 - k1 * v0; // k×v
+  const double y0 = k1 * x2 - k2 * x1, y1 = k2 * x0 - k0 * x2, y2 = k0 * x1 - k1 * x0; // k×(k×v)
+  const double q0 = h1 * x0 + h2 * y0, q1 = h1 * x1 + h2 * y1, q2 = h1 * x2 + h2 * y2;
+  const double h2pv = h2 * pv, h1pv = h1 * pv;
+  const double z0 = h2pv * k0 + h3 * v0, z1 = h2pv * k1 + h3 * v1, z2 = h2pv * k2 + h3 * v2;
+  const double s0 = h1pv * k0 - h3 * x0, s1 = h1pv * k1 - h3 * x1, s2 = h1pv * k2 - h3 * x2;
+  D(0, 0) = q0 * k0 - h2pv * kk12 - h3 * kv12;
+  D(1, 1) = q1 * k1 - h2pv * (k2 * k2 + k0 * k0) - h3 * (v2 * k2 + v0 * k0);
+  D(2, 2) = q2 * k2 - h2pv * (k0 * k0 + k1 * k1) - h3 * (v0 * k0 + v1 * k1);
+  D(0, 1) = q0 * k1 + k0 * z1 - s2;
+  D(1, 0) = q1 * k0 + k1 * z0 + s2;
+  D(0, 2) = q0 * k2 + k0 * z2 + s1;
+  D(2, 0) = q2 * k0 + k2 * z0 - s1;
+  D(1, 2) = q1 * k2 + k1 * z2 - s0;
+  D(2, 1) = q2 * k1 + k2 * z1 + s0;
 }
 } // namespace hair
