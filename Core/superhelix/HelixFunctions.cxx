@@ -170,17 +170,40 @@ void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, Hel
 {
   HelixCoefficients h;
   helixPoint(k, kd, u, out, &h);
-  const double om2 = k.squaredNorm();
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
   const double u2 = u * u, u3 = u2 * u;
-  const Eigen::Matrix3d K = skew(k);
-  const Eigen::Matrix3d K2 = k * k.transpose() - om2 * Eigen::Matrix3d::Identity();
-  out.E = Eigen::Matrix3d::Identity() + (u * h.phi0) * K + (u2 * h.phi1) * K2;
-  out.G = u * Eigen::Matrix3d::Identity() + (u2 * h.phi1) * K + (u3 * h.phi2) * K2;
-  // D(G v)[v] = da p (k × v) + db p k × (k × v) + b v × (k × v), with v = kd.
+  // E = I + A K + B K², G = u I + B K + C K², with K = [k]×, K² = k kᵀ − Ω² I (its diagonal
+  // −Ω² + k_i² summed over the other two components).
+  const double A = u * h.phi0, B = u2 * h.phi1, C = u3 * h.phi2;
+  const double s0 = k0 * k0, s1 = k1 * k1, s2 = k2 * k2;
+  const double q00 = -(s1 + s2), q11 = -(s2 + s0), q22 = -(s0 + s1);
+  const double q01 = k0 * k1, q02 = k0 * k2, q12 = k1 * k2;
+  Eigen::Matrix3d& E = out.E;
+  E(0, 0) = 1 + B * q00;
+  E(1, 1) = 1 + B * q11;
+  E(2, 2) = 1 + B * q22;
+  E(0, 1) = B * q01 - A * k2;
+  E(1, 0) = B * q01 + A * k2;
+  E(0, 2) = B * q02 + A * k1;
+  E(2, 0) = B * q02 - A * k1;
+  E(1, 2) = B * q12 - A * k0;
+  E(2, 1) = B * q12 + A * k0;
+  Eigen::Matrix3d& G = out.G;
+  G(0, 0) = u + C * q00;
+  G(1, 1) = u + C * q11;
+  G(2, 2) = u + C * q22;
+  G(0, 1) = C * q01 - B * k2;
+  G(1, 0) = C * q01 + B * k2;
+  G(0, 2) = C * q02 + B * k1;
+  G(2, 0) = C * q02 - B * k1;
+  G(1, 2) = C * q12 - B * k0;
+  G(2, 1) = C * q12 + B * k0;
+  // D(G v)[v] = da p (k × v) + db p k × (k × v) + b v × (k × v), with v = kd, b = C,
+  //           = da p (k × v) + (db p k + b v) × (k × v).
   const double p = k.dot(kd);
+  const double c1 = u2 * u2 * h.psi1 * p, c2 = u3 * u2 * h.psi2 * p;
   const Eigen::Vector3d kxv = k.cross(kd);
-  out.dGk = (u2 * u2 * h.psi1 * p) * kxv + (u3 * u2 * h.psi2 * p) * k.cross(kxv) +
-            (u3 * h.phi2) * kd.cross(kxv);
+  out.dGk = c1 * kxv + (c2 * k + C * kd).cross(kxv);
 }
 
 } // namespace hair
