@@ -8,8 +8,13 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace hair;
 
@@ -79,6 +84,219 @@ TEST(SuperHelixKinematics, SeriesAndClosedFormsAgreeAtTheSwitch)
   EXPECT_DOUBLE_EQ(z.phi1, 0.5);
   EXPECT_DOUBLE_EQ(z.psi1, -1.0 / 12);
   EXPECT_DOUBLE_EQ(z.chi2, 1.0 / 630);
+}
+
+TEST(SuperHelixKinematics, SeriesBandsGiveTheFullSeriesToRoundOff)
+{
+  // Below 1.5 the coefficients are Taylor series with fewer terms for smaller |x| (8, 10, 11
+  // terms below 0.5, 1, 1.5). Against the series summed to 25 terms in long double, on a
+  // grid that crosses the band limits, they must be exact to 2 ε relative (the double
+  // Horner evaluation itself is ~1 ε; two terms too few would leave ≥ 2e-14 near a limit).
+  const double eps = std::numeric_limits<double>::epsilon();
+  auto reference = [](double xd)
+  {
+    const long double y = static_cast<long double>(xd) * xd;
+    std::array<long double, 7> r{};
+    for (int m = 24; m >= 0; --m)
+    {
+      long double f = 1; // (2m + 1)!
+      for (int j = 2; j <= 2 * m + 1; ++j)
+        f *= j;
+      const long double sg = (m % 2 == 0) ? 1 : -1, a = 2 * m + 2, b = 2 * m + 3, c = 2 * m + 4,
+                        d = 2 * m + 5, e = 2 * m + 6, g = 2 * m + 7;
+      const std::array<long double, 7> t = {sg / f,
+                                            sg / (f * a),
+                                            sg / (f * a * b),
+                                            -sg * a / (f * a * b * c),
+                                            -sg * a / (f * a * b * c * d),
+                                            sg * c * a / (f * a * b * c * d * e),
+                                            sg * c * a / (f * a * b * c * d * e * g)};
+      for (int i = 0; i < 7; ++i)
+        r[i] = r[i] * y + t[i];
+    }
+    return r;
+  };
+  std::vector<double> xs;
+  for (int i = 0; i < 3000; ++i)
+    xs.push_back(1.5 * i / 3000);
+  for (double lim : {0.5, 1.0, 1.5})
+    for (double d : {1e-15, 1e-12, 1e-9, 1e-6})
+    {
+      xs.push_back(lim - d);
+      if (lim < 1.5)
+        xs.push_back(lim + d);
+    }
+  xs.push_back(std::nextafter(0.5, 0.0));
+  xs.push_back(std::nextafter(1.0, 0.0));
+  xs.push_back(std::nextafter(1.5, 0.0));
+  for (double x : xs)
+  {
+    const auto r = reference(x);
+    for (double sx : {x, -x}) // even functions
+    {
+      const HelixCoefficients h = helixCoefficients(sx);
+      const double* v = &h.phi0;
+      for (int i = 0; i < 7; ++i)
+        EXPECT_LE(std::abs(v[i] - r[i]) / std::abs(r[i]), 2 * eps) << "x = " << sx << " i = " << i;
+    }
+  }
+}
+
+namespace
+{
+// Random (k, k̇, u) covering the straight, the series and the closed-form ranges up to the
+// fuzzy preset's x = |k| ℓ ≈ 16, with some components of k exactly zero.
+struct HelixSample
+{
+  Eigen::Vector3d k, kd;
+  double u;
+};
+std::vector<HelixSample> helixSamples()
+{
+  std::mt19937 g(11);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> un(0, 1);
+  std::vector<HelixSample> out;
+  for (double om : {0.0, 0.5, 30.0, 60.0, 100.0, 250.0, 530.0})
+    for (int r = 0; r < 6; ++r)
+    {
+      HelixSample s;
+      s.k = Eigen::Vector3d(n(g), n(g), n(g)).normalized() * om;
+      if (r == 4)
+        s.k.y() = 0;
+      if (r == 5)
+        s.k = Eigen::Vector3d(om, 0, 0) + 1e-3 * s.k; // nearly a pure twist
+      s.kd = Eigen::Vector3d(n(g), n(g), n(g)) * 20;
+      s.u = 0.03 * (0.1 + 0.9 * un(g));
+      out.push_back(s);
+    }
+  return out;
+}
+} // namespace
+
+TEST(SuperHelixKinematics, HelixPointAndEndMatchDifferencesUpToFuzzyCurvature)
+{
+  // Each output against central differences of another, at x up to ~16 (the Curled strand
+  // stays below 2.5): dg of g (step δ with δ u = 3e-5: truncation ~x (δu)² < 1e-7 relative,
+  // round-off ~1e-16 x/(δu) < 1e-10), d2g = d/dt (dg (k + t k̇) k̇), dGk = d/dt (G(k + t k̇) k̇)
+  // with t |k̇| u = 3e-5; ∂g/∂u = E e0 and ∂G/∂u = E; and E = exp(u [k]×). d2g and dGk are
+  // measured against at least 1e-3 of their natural sizes u³|k̇|² and u²|k̇|² (dGk = 0 at
+  // k = 0, where the difference quotient keeps ~1e-12 u²|k̇|² of round-off).
+  for (const HelixSample& s : helixSamples())
+  {
+    const Eigen::Vector3d& k = s.k;
+    const Eigen::Vector3d& kd = s.kd;
+    const double u = s.u;
+    HelixEnd e;
+    helixEnd(k, kd, u, e);
+    auto at = [&](const Eigen::Vector3d& kk, double uu)
+    {
+      HelixEnd r;
+      helixEnd(kk, kd, uu, r);
+      return r;
+    };
+    const std::string where = "k = " + std::to_string(k.norm()) + ", u = " + std::to_string(u);
+    // dg
+    const double dk = 3e-5 / u;
+    for (int i = 0; i < 3; ++i)
+    {
+      const Eigen::Vector3d fd = (at(k + dk * Eigen::Vector3d::Unit(i), u).g -
+                                  at(k - dk * Eigen::Vector3d::Unit(i), u).g) /
+                                 (2 * dk);
+      EXPECT_LT((e.dg.col(i) - fd).cwiseAbs().maxCoeff(), 1e-7 * e.dg.cwiseAbs().maxCoeff())
+          << where << " column " << i;
+    }
+    // d2g and dGk along k̇
+    const double t = 3e-5 / (kd.norm() * u);
+    const HelixEnd p = at(k + t * kd, u), m = at(k - t * kd, u);
+    const Eigen::Vector3d d2gFd = (p.dg * kd - m.dg * kd) / (2 * t);
+    const double vv = kd.squaredNorm();
+    EXPECT_LT((e.d2g - d2gFd).cwiseAbs().maxCoeff(),
+              1e-7 * std::max(e.d2g.cwiseAbs().maxCoeff(), 1e-3 * u * u * u * vv))
+        << where;
+    const Eigen::Vector3d dGkFd = (p.G * kd - m.G * kd) / (2 * t);
+    EXPECT_LT((e.dGk - dGkFd).cwiseAbs().maxCoeff(),
+              1e-7 * std::max(e.dGk.cwiseAbs().maxCoeff(), 1e-3 * u * u * vv))
+        << where;
+    // ∂/∂u with δu = 1e-5 u: truncation ~(|k| δu)²/6 < 1e-8, round-off ~1e-16 u / δu = 1e-11.
+    const double du = 1e-5 * u;
+    const HelixEnd up = at(k, u + du), um = at(k, u - du);
+    EXPECT_LT(((up.g - um.g) / (2 * du) - e.E.col(0)).cwiseAbs().maxCoeff(), 1e-7) << where;
+    EXPECT_LT(((up.G - um.G) / (2 * du) - e.E).cwiseAbs().maxCoeff(), 1e-7) << where;
+    // E is the rotation exp(u [k]×).
+    const double om = k.norm();
+    const Eigen::Matrix3d R =
+        om > 0 ? Eigen::AngleAxisd(om * u, k / om).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    EXPECT_LT((e.E - R).cwiseAbs().maxCoeff(), 1e-14 * (1 + om * u)) << where;
+    // helixPoint gives helixEnd's point part, and its coefficients are helixCoefficients(|k| u).
+    HelixPoint hp;
+    HelixCoefficients hc;
+    helixPoint(k, kd, u, hp, &hc);
+    EXPECT_EQ(hp.g, e.g);
+    EXPECT_EQ(hp.dg, e.dg);
+    EXPECT_EQ(hp.d2g, e.d2g);
+    const HelixCoefficients h2 = helixCoefficients(std::sqrt(k.squaredNorm()) * u);
+    EXPECT_EQ(std::memcmp(&hc, &h2, sizeof hc), 0) << where;
+  }
+}
+
+TEST(SuperHelixKinematics, HelixBilinearIsThePolarizationOfTheQuadraticForms)
+{
+  // d2g = D²g[k̇, k̇] and dGk = D(G k̇)[k̇] are quadratic in k̇, so their bilinear forms follow
+  // exactly from B[v, w] = (Q(v + w) − Q(v − w)) / 4 with w = s e_i: only round-off remains
+  // (~1e-15 relative with s = |v|); 1e-12 of the matrix's largest entry.
+  for (const HelixSample& sm : helixSamples())
+  {
+    const Eigen::Vector3d& k = sm.k;
+    const Eigen::Vector3d& v = sm.kd;
+    const double u = sm.u;
+    Eigen::Matrix3d W, GW;
+    helixBilinear(k, v, u, W, &GW);
+    const double s = v.norm();
+    Eigen::Matrix3d Wp, GWp;
+    for (int i = 0; i < 3; ++i)
+    {
+      HelixEnd a, b;
+      helixEnd(k, v + s * Eigen::Vector3d::Unit(i), u, a);
+      helixEnd(k, v - s * Eigen::Vector3d::Unit(i), u, b);
+      Wp.col(i) = (a.d2g - b.d2g) / (4 * s);
+      GWp.col(i) = (a.dGk - b.dGk) / (4 * s);
+    }
+    const std::string where = "k = " + std::to_string(k.norm()) + ", u = " + std::to_string(u);
+    EXPECT_LE((W - Wp).cwiseAbs().maxCoeff(), 1e-12 * W.cwiseAbs().maxCoeff()) << where;
+    EXPECT_LE((GW - GWp).cwiseAbs().maxCoeff(), 1e-12 * GW.cwiseAbs().maxCoeff())
+        << where; // 0 at k = 0
+    // With helixPoint's coefficients passed in, and without dGkW: the same d2gW, bit for bit.
+    HelixPoint hp;
+    HelixCoefficients hc;
+    helixPoint(k, v, u, hp, &hc);
+    Eigen::Matrix3d W2;
+    helixBilinear(k, v, u, W2, nullptr, &hc);
+    EXPECT_EQ(W2, W) << where;
+  }
+}
+
+TEST(SuperHelixKinematics, StraightElementIsExact)
+{
+  // k = 0 (the series at x = 0): g = u e0, E = I, G = u I exactly; the only non-zero
+  // entries of dg are ±u²/2 (a = u² φ1(0)), and d2g = b (2 v0 v − 2 |v|² e0), b = u³/6.
+  const Eigen::Vector3d k = Eigen::Vector3d::Zero(), v(3, -2, 5);
+  for (double u : {1e-3, 0.0123, 0.03})
+  {
+    HelixEnd e;
+    helixEnd(k, v, u, e);
+    EXPECT_EQ(e.g, Eigen::Vector3d(u, 0, 0));
+    EXPECT_EQ(e.E, Eigen::Matrix3d::Identity());
+    EXPECT_EQ(e.G, (u * Eigen::Matrix3d::Identity()).eval());
+    Eigen::Matrix3d dg = Eigen::Matrix3d::Zero();
+    dg(2, 1) = -u * u / 2;
+    dg(1, 2) = u * u / 2;
+    EXPECT_EQ(e.dg, dg);
+    const double b = u * u * u / 6;
+    const Eigen::Vector3d d2g(-2 * b * (v.y() * v.y() + v.z() * v.z()), 2 * b * v.x() * v.y(),
+                              2 * b * v.x() * v.z());
+    EXPECT_LT((e.d2g - d2g).cwiseAbs().maxCoeff(), 1e-15 * d2g.cwiseAbs().maxCoeff());
+  }
 }
 
 TEST(SuperHelixKinematics, JacobianMatchesFiniteDifferences)
