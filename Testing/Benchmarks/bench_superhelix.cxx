@@ -8,6 +8,12 @@
 //   BM_RealTimeGuides/<T>    1000 strands of N = 10 on T threads: frames of 1/30 s per second
 //   BM_ReferenceState/<p>    guard for speed work: q after 30 steps (each preset, N = 10)
 //                            against values recorded before it; errors past 1e-9 relative
+//   BM_StepTolerance/<p>/<k> the step of BM_Step (N = 10) with the quadrature tolerance
+//                            k = 0: default (5.3e-6), 1: 1e-4, 2: 1e-3, 3: 1e-2; counters:
+//                            samples per step, and after 2 s of the shake the difference of
+//                            q from a tight rule (1e-12), q_dev, next to the time step's
+//                            own error at 1/30 s (from 1/480 s), dt_dev, both relative to
+//                            max |q|: what a looser rule buys and what it costs
 #include "superhelix/SuperHelix.h"
 
 #include <benchmark/benchmark.h>
@@ -238,6 +244,62 @@ void BM_ReferenceState(benchmark::State& state)
                         "relative: the speed change altered the results.");
 }
 
+constexpr double Tolerances[] = {0, 1e-4, 1e-3, 1e-2}; // 0: the default
+
+// q after 2 s of the head shake (N = 10), with `perFrame` steps per 1/30 s.
+Eigen::VectorXd shakenQ(HairType type, double tolerance, int perFrame)
+{
+  StrandSpec spec = shakenStrand(type, 10);
+  if (tolerance > 0)
+    spec.quadratureTolerance = tolerance;
+  SuperHelix h;
+  (void)h.initialize(spec);
+  for (int i = 0; i < 60 * perFrame; ++i)
+    (void)h.step(1.0 / (30 * perFrame));
+  return h.q();
+}
+
+void BM_StepTolerance(benchmark::State& state)
+{
+  const HairType type = static_cast<HairType>(state.range(0));
+  const double tolerance = Tolerances[state.range(1)];
+  StrandSpec spec = shakenStrand(type, 10);
+  if (tolerance > 0)
+    spec.quadratureTolerance = tolerance;
+  SuperHelix warm;
+  (void)warm.initialize(spec);
+  for (int i = 0; i < 30; ++i)
+    (void)warm.step(1.0 / 30);
+  SuperHelix h = warm;
+  double samples = 0;
+  int k = 0;
+  for (auto _ : state)
+  {
+    if (k == 30)
+    {
+      state.PauseTiming();
+      h = warm;
+      k = 0;
+      state.ResumeTiming();
+    }
+    const Status st = h.step(1.0 / 30);
+    if (!st)
+    {
+      state.SkipWithError(st.message().c_str());
+      break;
+    }
+    ++k;
+    samples += static_cast<double>(h.samples().size());
+  }
+  const Eigen::VectorXd q = shakenQ(type, tolerance, 1), tight = shakenQ(type, 1e-12, 1);
+  const Eigen::VectorXd fine = shakenQ(type, 1e-12, 16);
+  const double scale = tight.cwiseAbs().maxCoeff();
+  state.counters["samples"] = benchmark::Counter(samples, benchmark::Counter::kAvgIterations);
+  state.counters["q_dev"] = (q - tight).cwiseAbs().maxCoeff() / scale;
+  state.counters["dt_dev"] = (tight - fine).cwiseAbs().maxCoeff() / scale;
+  state.SetLabel(toString(type));
+}
+
 void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int type : {0, 1, 2, 3})
@@ -259,6 +321,9 @@ BENCHMARK(BM_Phase_VelocityJacobian)->Apply(nArgs)->Unit(benchmark::kMicrosecond
 BENCHMARK(BM_Phase_TensionStiffness)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Phase_Solve)->Apply(nArgs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ReferenceState)->DenseRange(0, 3)->Iterations(1);
+BENCHMARK(BM_StepTolerance)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2, 3}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_StrandsPerSecond)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RealTimeGuides)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
