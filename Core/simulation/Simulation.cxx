@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 namespace hair
 {
@@ -16,6 +17,45 @@ constexpr double TwoPi = 6.283185307179586476925286766559;
 bool finite(const Eigen::Vector3d& v)
 {
   return v.allFinite();
+}
+
+/// fn(begin, end) over [0, count) cut into `threads` contiguous ranges, one per thread (the
+/// calling thread takes the first); if a thread cannot be started, the calling thread does
+/// its range too. The ranges do not depend on the machine, only on `threads`.
+template <class Fn>
+void parallelRanges(std::size_t count, int threads, const Fn& fn)
+{
+  const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, count));
+  auto range = [&](std::size_t t)
+  { return std::make_pair(count * t / parts, count * (t + 1) / parts); };
+  if (parts == 1)
+  {
+    fn(std::size_t{0}, count);
+    return;
+  }
+  std::vector<std::thread> pool;
+  std::size_t started = 1;
+  try
+  {
+    for (; started < parts; ++started)
+    {
+      const auto [b, e] = range(started);
+      pool.emplace_back([&fn, b = b, e = e]() { fn(b, e); });
+    }
+  }
+  catch (...)
+  {
+    // No more threads: the rest is done below, on this one.
+  }
+  const auto [b0, e0] = range(0);
+  fn(b0, e0);
+  for (std::size_t t = started; t < parts; ++t)
+  {
+    const auto [b, e] = range(t);
+    fn(b, e);
+  }
+  for (std::thread& th : pool)
+    th.join();
 }
 
 /// Orthonormal root frame: n0 along the growth, n1 as close as possible to the scalp normal
@@ -234,24 +274,47 @@ void Simulation::Impl::record()
   posesAt(f.time);
   if (Options.model == StrandModel::SuperHelix)
   {
+    // Display points, their velocities, curvature and twist, strand by strand on the
+    // simulation's threads into pre-sized arrays (the same values in the same places as one
+    // thread would give: each point is computed alone).
+    std::vector<std::size_t> first(Helices.size() + 1, 0);
+    std::size_t qSize = 0;
+    for (std::size_t k = 0; k < Helices.size(); ++k)
+    {
+      first[k + 1] = first[k] + Helices[k].elementCount() * Options.pointsPerElement + 1;
+      qSize += Helices[k].q().size();
+    }
+    const std::size_t points = first.back();
+    f.positions.resize(points);
+    f.velocities.resize(points);
+    std::vector<double>& curvature = f.pointData["curvature"];
+    std::vector<double>& twist = f.pointData["twist"];
+    curvature.resize(points);
+    twist.resize(points);
+    parallelRanges(Helices.size(), Options.threads,
+                   [&](std::size_t begin, std::size_t end)
+                   {
+                     for (std::size_t k = begin; k < end; ++k)
+                     {
+                       const SuperHelix& h = Helices[k];
+                       const int n = h.elementCount() * Options.pointsPerElement;
+                       for (int i = 0; i <= n; ++i)
+                       {
+                         const std::size_t j = first[k] + i;
+                         h.positionAndVelocity(h.length() * i / n, f.positions[j], f.velocities[j]);
+                         // Curvature |κ| and twist τ of the element the point lies on
+                         // (q = (τ, κ1, κ2) per element).
+                         const int e = std::min(i / Options.pointsPerElement, h.elementCount() - 1);
+                         const Eigen::Vector3d q = h.q().segment<3>(3 * e);
+                         curvature[j] = std::hypot(q.y(), q.z());
+                         twist[j] = q.x();
+                       }
+                     }
+                   });
+    f.q.reserve(qSize);
+    f.qdot.reserve(qSize);
     for (const SuperHelix& h : Helices)
     {
-      const int n = h.elementCount() * Options.pointsPerElement;
-      for (int i = 0; i <= n; ++i)
-      {
-        const double s = h.length() * i / n;
-        f.positions.push_back(h.position(s));
-        f.velocities.push_back(h.velocity(s));
-      }
-      // Curvature |κ| and twist τ of the element each point lies on (q = (τ, κ1, κ2) per
-      // element).
-      for (int i = 0; i <= n; ++i)
-      {
-        const int e = std::min(i / Options.pointsPerElement, h.elementCount() - 1);
-        const Eigen::Vector3d k = h.q().segment<3>(3 * e);
-        f.pointData["curvature"].push_back(std::hypot(k.y(), k.z()));
-        f.pointData["twist"].push_back(k.x());
-      }
       f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
       f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
     }
@@ -329,22 +392,28 @@ void Simulation::Impl::record()
                 {"contact_work", e.contactWork},
                 {"residual", e.residual}};
   }
-  // Penetration, measured the same way for both models: nodes inside a part.
+  // Penetration, measured the same way for both models: nodes inside a part (point by
+  // point on the simulation's threads; counts and maximum reduced after).
   std::vector<double>& depthOf = f.pointData["contact_depth"];
   depthOf.assign(f.positions.size(), 0.0);
+  std::vector<char> insideAny(f.positions.size(), 0);
+  parallelRanges(f.positions.size(), Options.threads,
+                 [&](std::size_t begin, std::size_t end)
+                 {
+                   for (std::size_t i = begin; i < end; ++i)
+                     for (const SimulationPart& p : Parts)
+                     {
+                       const TableQuery q = p.part.query(f.positions[i]);
+                       if (q.inside)
+                       {
+                         insideAny[i] = 1;
+                         depthOf[i] = std::max(depthOf[i], std::max(q.depth, 0.0));
+                       }
+                     }
+                 });
   for (std::size_t i = 0; i < f.positions.size(); ++i)
   {
-    bool inside = false;
-    for (const SimulationPart& p : Parts)
-    {
-      const TableQuery q = p.part.query(f.positions[i]);
-      if (q.inside)
-      {
-        inside = true;
-        depthOf[i] = std::max(depthOf[i], std::max(q.depth, 0.0));
-      }
-    }
-    contacts += inside;
+    contacts += insideAny[i];
     deepest = std::max(deepest, depthOf[i]);
   }
   Frames.push_back(std::move(f));

@@ -533,6 +533,20 @@ Eigen::Vector3d SuperHelix::velocity(double s) const
   return el.v0 + el.omega0.cross(Fg) + el.F0 * hp.dg * kd;
 }
 
+void SuperHelix::positionAndVelocity(double s, Eigen::Vector3d& position,
+                                     Eigen::Vector3d& velocity) const
+{
+  double u;
+  const int e = locate(s, u);
+  const Element& el = Cur.elements[e];
+  HelixPoint hp;
+  const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
+  helixPoint(Q.segment<3>(3 * e), kd, u, hp);
+  const Eigen::Vector3d Fg = el.F0 * hp.g;
+  position = el.r0 + Fg;
+  velocity = el.v0 + el.omega0.cross(Fg) + el.F0 * hp.dg * kd;
+}
+
 Eigen::Vector3d SuperHelix::accelerationAtRest(double s) const
 {
   double u;

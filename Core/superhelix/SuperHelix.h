@@ -152,6 +152,8 @@ public:
   Eigen::Vector3d position(double s) const;
   Eigen::Matrix3d frame(double s) const; ///< columns n0 (tangent), n1, n2
   Eigen::Vector3d velocity(double s) const;
+  /// position(s) and velocity(s) from one evaluation of the helix (the same values).
+  void positionAndVelocity(double s, Eigen::Vector3d& position, Eigen::Vector3d& velocity) const;
   /// ∂r(s)/∂q: 3 × 3N, exact (closed form).
   Eigen::Matrix3Xd jacobian(double s) const;
   /// Acceleration of the point s when q̈ = 0 (root motion, centrifugal, Coriolis).

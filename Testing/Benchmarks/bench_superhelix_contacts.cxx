@@ -7,6 +7,10 @@
 //                                 on 2 threads read the wall time ("Time"): frames per
 //                                 second = 1000 / Time in ms (30 is real time)
 //   BM_Respond/<guides>           BodyContacts::respond alone for every guide's samples
+//   BM_SimulationFrame/<threads>  one frame of hair::Simulation (what Hair Simulation runs):
+//                                 1000 guides of the same scene, the step of every guide and
+//                                 the frame's record (display points, their velocities and
+//                                 depths, energies); frames per second = 1000 / Time in ms
 //   BM_StrandInContact/<N>/<contacts>  one step of one wavy strand (30 cm, N elements), every
 //                                 sample in contact (1: a synthetic response with stiffness
 //                                 and non-symmetric damping, no force) or none (0): what the
@@ -193,6 +197,63 @@ void BM_StrandInContact(benchmark::State& state)
   }
   state.SetLabel(contacts ? "every sample in contact" : "no contacts");
 }
+void BM_SimulationFrame(benchmark::State& state)
+{
+  Scene& s = scene(1000); // for the body, its tables and the roots' layout
+  static std::vector<Root> roots;
+  if (roots.empty())
+  {
+    RootSamplingOptions ro;
+    ro.count = 1000;
+    (void)sampleRoots(s.body.mesh, bundledScalp(s.body.mesh), ro, roots);
+  }
+  const double flip = s.body.mesh.signedVolume() < 0 ? -1 : 1;
+  const Eigen::Vector3d comb = Eigen::Vector3d(0, -1, -0.3).normalized();
+  std::vector<GuideStrand> guides(roots.size());
+  for (std::size_t k = 0; k < roots.size(); ++k)
+  {
+    const Eigen::Vector3d n = flip * roots[k].normal;
+    guides[k].root = roots[k].position;
+    guides[k].normal = n;
+    guides[k].growth = (0.65 * n + 0.35 * comb).normalized();
+    guides[k].length = 0.3;
+    guides[k].elements = 10;
+    guides[k].hair = HairParameters::preset(HairType::Wavy);
+    guides[k].seed = 1 + static_cast<std::uint32_t>(k);
+  }
+  std::vector<SimulationPart> parts(2);
+  parts[0].part = s.body.parts[s.body.head];
+  parts[0].movesWithHead = true;
+  parts[1].part = s.body.parts[s.body.trunk];
+  SimulationOptions o;
+  o.motion = s.motion;
+  o.wind = Eigen::Vector3d(0, 0, -0.5);
+  o.threads = static_cast<int>(state.range(0));
+  Simulation sim;
+  Status st = sim.initialize(guides, parts, o);
+  if (!st)
+  {
+    state.SkipWithError(st.message().c_str());
+    return;
+  }
+  int frames = 1;
+  for (auto _ : state)
+  {
+    if (frames == 61) // 2 s, then again from the start (frames are kept in memory)
+    {
+      state.PauseTiming();
+      st = sim.initialize(guides, parts, o);
+      frames = 1;
+      state.ResumeTiming();
+    }
+    st = sim.advanceTo(++frames);
+    if (!st)
+    {
+      state.SkipWithError(st.message().c_str());
+      break;
+    }
+  }
+}
 void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int guides : {200, 1000, 5000})
@@ -205,6 +266,12 @@ void stepArgs(benchmark::internal::Benchmark* b)
 
 BENCHMARK(BM_Step)->Apply(stepArgs)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_StrandInContact)->ArgsProduct({{10, 20, 40}, {0, 1}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SimulationFrame)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(3.0);
 BENCHMARK(BM_Respond)->Arg(200)->Arg(1000)->Arg(5000)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -345,6 +345,21 @@ TEST(SuperHelixKinematics, VelocityAndRestAccelerationMatchTimeDifferences)
   }
 }
 
+TEST(SuperHelixKinematics, PositionAndVelocityTogetherAreTheSameValues)
+{
+  // The simulation's display points use the combined call; it must give exactly what
+  // position(s) and velocity(s) give (the same operations), so that frames do not change.
+  const Curled c;
+  const SuperHelix h = c.make(0.3, c.q);
+  for (double s : {0.0, 0.005, 0.02, 0.03, 0.055, 0.08, 0.0999, 0.1, 0.2})
+  {
+    Eigen::Vector3d x, v;
+    h.positionAndVelocity(s, x, v);
+    EXPECT_TRUE(x == h.position(s)) << s;
+    EXPECT_TRUE(v == h.velocity(s)) << s;
+  }
+}
+
 TEST(SuperHelixKinematics, MassMatrixEqualsBruteForceQuadratureAndIsPositiveDefinite)
 {
   // M = ∫ ρS JᵀJ ds + ∫ J_ωᵀ I(s) J_ω ds (centreline and cross-section rotary inertia,
