@@ -21,6 +21,10 @@
 #include <vtkTable.h>
 
 #include <cmath>
+#include <limits>
+#if __has_include(<unistd.h>)
+#include <unistd.h>
+#endif
 
 vtkStandardNewMacro(vtkHairSimulation);
 
@@ -182,6 +186,22 @@ hair::Status toGuides(vtkPolyData* input, std::vector<hair::GuideStrand>& guides
 }
 } // namespace
 
+namespace
+{
+/// The machine's physical memory in bytes (infinite where it cannot be asked).
+double physicalMemoryBytes()
+{
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
+  const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && size > 0)
+  {
+    return double(pages) * double(size);
+  }
+#endif
+  return std::numeric_limits<double>::infinity();
+}
+} // namespace
+
 int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** inputVector,
                                    vtkInformationVector* outputVector)
 {
@@ -257,6 +277,15 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     o.hairHair.friction = this->HairContactFriction;
     o.contacts.slipVelocity = this->SlipVelocity;
     if (hair::Status s = in.Sim.initialize(guides, parts, o); !s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: " << s.message());
+      return 0;
+    }
+    // Every frame stays in memory: refuse a run that cannot fit before computing any of it
+    // (running out of memory part-way would take ParaView down with it).
+    const int frames =
+        static_cast<int>(std::floor(this->Duration / (1.0 / this->FrameRate) + 1e-9)) + 1;
+    if (hair::Status s = in.Sim.checkMemory(frames, 0.5 * physicalMemoryBytes()); !s)
     {
       vtkErrorMacro(<< "Hair Simulation: " << s.message());
       return 0;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <thread>
 
 namespace hair
@@ -423,6 +424,52 @@ void Simulation::Impl::record()
 
 Simulation::Simulation() : P(std::make_unique<Impl>()) {}
 Simulation::~Simulation() = default;
+
+double Simulation::bytesPerFrame() const
+{
+  if (P->Frames.empty())
+  {
+    return 0;
+  }
+  const StateFrame& f = P->Frames.front();
+  double bytes = sizeof(StateFrame) +
+                 sizeof(Eigen::Vector3d) * double(f.positions.size() + f.velocities.size()) +
+                 sizeof(double) * double(f.q.size() + f.qdot.size());
+  for (const auto& [name, values] : f.pointData)
+  {
+    bytes += name.size() + sizeof(double) * double(values.size());
+  }
+  for (const auto& [name, value] : f.energy)
+  {
+    bytes += name.size() + sizeof(value);
+  }
+  return bytes;
+}
+
+Status Simulation::checkMemory(int frames, double availableBytes) const
+{
+  const double perFrame = bytesPerFrame();
+  const double need = perFrame * std::max(frames, 0);
+  if (need <= availableBytes)
+  {
+    return Status::Ok();
+  }
+  auto gib = [](double b)
+  {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+    return std::string(s);
+  };
+  char per[32];
+  std::snprintf(per, sizeof per, "%.2f MiB", perFrame / (1024.0 * 1024));
+  return Status::Error(
+      "the run's " + std::to_string(frames) + " frames (Duration × Frame Rate + 1) of " +
+      std::to_string(P->Frames.front().positions.size()) + " points would need " + gib(need) +
+      " of memory (" + per + " per frame, all kept in memory), more than the " +
+      gib(availableBytes) +
+      " allowed (half of this machine's memory); shorten Duration, lower Frame Rate or use "
+      "fewer strands or elements.");
+}
 
 int Simulation::numberOfFrames() const
 {

@@ -121,6 +121,13 @@ public:
 
   int numberOfFrames() const;
   const StateFrame& frame(int index) const;
+  /// Memory one frame takes (bytes): positions, velocities, per-point arrays, q and q̇ of
+  /// frame 0 (every frame has the same sizes).
+  double bytesPerFrame() const;
+  /// Frames are kept in memory: refuses a run of `frames` frames whose frames would need
+  /// more than `availableBytes`, with the figures and what to change (call after
+  /// initialize(); the caller chooses the budget, e.g. half the machine's memory).
+  Status checkMemory(int frames, double availableBytes) const;
   /// The header a state file of this run needs (offsets, per-strand parameters, run
   /// attributes) and the energy terms beyond the required five.
   const StateHeader& header() const;

@@ -139,6 +139,29 @@ TEST_P(SimulationModels, PenetrationIsMeasuredAgainstTheTables)
   EXPECT_GT(sim.maxDepth()[0], 0.05);
 }
 
+TEST_P(SimulationModels, RunsThatCannotFitInMemoryAreRefusedBeforeTheyStart)
+{
+  // Frames stay in memory: the estimate is frame 0's arrays (every frame has the same
+  // sizes), so a run of n frames needs n × bytesPerFrame, refused past the budget given.
+  auto g = guides(3, GetParam() == StrandModel::SuperHelix ? 5 : 20);
+  SimulationOptions o;
+  o.model = GetParam();
+  Simulation sim;
+  ASSERT_TRUE(sim.initialize(g, {}, o).ok());
+  const StateFrame& f = sim.frame(0);
+  const double perFrame = sim.bytesPerFrame();
+  // At least the positions, velocities, per-point arrays, q and q̇ themselves.
+  const double arrays = 8.0 * (6 * f.positions.size() + f.q.size() + f.qdot.size() +
+                               f.pointData.size() * f.positions.size());
+  EXPECT_GE(perFrame, arrays);
+  EXPECT_LT(perFrame, arrays + 4096); // and little else
+  EXPECT_TRUE(sim.checkMemory(1000, 1000 * perFrame).ok());
+  const Status refused = sim.checkMemory(1000, 999 * perFrame);
+  ASSERT_FALSE(refused.ok());
+  for (const char* part : {"1000 frames", "Duration", "Frame Rate", "fewer strands"})
+    EXPECT_NE(refused.message().find(part), std::string::npos) << refused.message();
+}
+
 INSTANTIATE_TEST_SUITE_P(BothModels, SimulationModels,
                          ::testing::Values(StrandModel::SuperHelix, StrandModel::Projective),
                          [](const auto& info) {

@@ -79,6 +79,24 @@ bad.Input = body
 bad.UpdatePipeline(0.0)
 check(any("no polylines" in m for m in errors.messages), f"a surface instead of strands is refused ({errors.messages[:1]})")
 
+# A run whose frames cannot fit in memory (all frames are kept) is refused before it starts,
+# with the figures: an hour at 1000 frames per second of these strands needs ~100 GiB.
+too_long = HairSimulation(Input=strands, Duration=3600, FrameRate=1000)  # noqa: F821
+errors = Errors(too_long)
+started = time.time()
+too_long.UpdatePipeline(0.0)
+# A lower bound of what the frames need: 9 doubles per point and frame, and the frames have
+# at least the input strands' points (the Super-Helix displays 4 per element).
+need = 3600001 * 72 * fetch(strands).GetNumberOfPoints()
+budget = 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+if need > budget:
+    check(any("memory" in m and "frames" in m and "Duration" in m for m in errors.messages)
+          and time.time() - started < 30,
+          f"a run that cannot fit in memory ({need / 2**30:.0f} GiB) is refused at once "
+          f"({errors.messages[:1]})")
+else:
+    print(f"skip: this machine's memory would hold {need / 2**30:.0f} GiB of frames")
+
 # Contact parameters: a bad one is refused with its name; a good run with contacts keeps the
 # Super-Helix strands out of the head table (contact_depth, the depth into the table).
 bad_contact = HairSimulation(Input=strands, Colliders=[head], Duration=0.1,  # noqa: F821
