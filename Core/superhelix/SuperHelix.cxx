@@ -123,7 +123,9 @@ void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::In
 
 // dst[r · rowStride + c · colStride] += Σ_{j < K} src(r, j) z(j, c) for r < rows, c < 3 (src
 // column-major with leading dimension lds, z K × 3 contiguous): a stacked product added to
-// a block column (rowStride 1) or, transposed, to a block row (colStride 1).
+// a block column (rowStride 1) or, transposed, to a block row (colStride 1). The loop is
+// stackedProduct's: one kernel taking the store as a lambda was measured at +1.2 %
+// instructions per step (the restrict-qualified stores no longer vectorized).
 template <int K>
 void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride, Eigen::Index colStride,
                        const double* __restrict src, Eigen::Index lds, const double* __restrict z,

@@ -50,15 +50,14 @@ SuperHelix warmStrand(HairType type, int n)
   return h;
 }
 
-void BM_Step(benchmark::State& state)
+// The steps from t = 1 s to 2 s of the shake, over and over (a copy of `warm` every 30
+// steps, outside the timing): the cost follows the samples, which follow the strand's
+// curvature, so a strand left shaking for the whole run (as before the fifth revision) gave
+// figures that depended on how long it ran. afterStep(strand) runs after each step, timed.
+template <class AfterStep>
+void cycledSteps(benchmark::State& state, const SuperHelix& warm, AfterStep afterStep)
 {
-  // The steps from t = 1 s to 2 s of the shake, over and over: the cost follows the
-  // samples, which follow the strand's curvature, so a strand left shaking for the whole
-  // run (as before the fifth revision) gave figures that depended on how long it ran.
-  const HairType type = static_cast<HairType>(state.range(0));
-  const SuperHelix warm = warmStrand(type, static_cast<int>(state.range(1)));
   SuperHelix h = warm;
-  double substeps = 0;
   int k = 0;
   for (auto _ : state)
   {
@@ -69,15 +68,23 @@ void BM_Step(benchmark::State& state)
       k = 0;
       state.ResumeTiming();
     }
-    Status st = h.step(1.0 / 30);
+    const Status st = h.step(1.0 / 30);
     if (!st)
     {
       state.SkipWithError(st.message().c_str());
       break;
     }
     ++k;
-    substeps += h.lastSubsteps();
+    afterStep(h);
   }
+}
+
+void BM_Step(benchmark::State& state)
+{
+  const HairType type = static_cast<HairType>(state.range(0));
+  const SuperHelix warm = warmStrand(type, static_cast<int>(state.range(1)));
+  double substeps = 0;
+  cycledSteps(state, warm, [&](const SuperHelix& h) { substeps += h.lastSubsteps(); });
   state.counters["substeps"] = benchmark::Counter(substeps, benchmark::Counter::kAvgIterations);
   state.SetLabel(toString(type));
 }
@@ -270,27 +277,9 @@ void BM_StepTolerance(benchmark::State& state)
   (void)warm.initialize(spec);
   for (int i = 0; i < 30; ++i)
     (void)warm.step(1.0 / 30);
-  SuperHelix h = warm;
   double samples = 0;
-  int k = 0;
-  for (auto _ : state)
-  {
-    if (k == 30)
-    {
-      state.PauseTiming();
-      h = warm;
-      k = 0;
-      state.ResumeTiming();
-    }
-    const Status st = h.step(1.0 / 30);
-    if (!st)
-    {
-      state.SkipWithError(st.message().c_str());
-      break;
-    }
-    ++k;
-    samples += static_cast<double>(h.samples().size());
-  }
+  cycledSteps(state, warm,
+              [&](const SuperHelix& h) { samples += static_cast<double>(h.samples().size()); });
   const Eigen::VectorXd q = shakenQ(type, tolerance, 1), tight = shakenQ(type, 1e-12, 1);
   const Eigen::VectorXd fine = shakenQ(type, 1e-12, 16);
   const double scale = tight.cwiseAbs().maxCoeff();
