@@ -287,7 +287,8 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
         static_cast<int>(std::floor(this->Duration / (1.0 / this->FrameRate) + 1e-9)) + 1;
     if (hair::Status s = in.Sim.checkMemory(frames, 0.5 * physicalMemoryBytes()); !s)
     {
-      vtkErrorMacro(<< "Hair Simulation: " << s.message());
+      vtkErrorMacro(<< "Hair Simulation: " << s.message()
+                    << " (The budget is half of this machine's memory.)");
       return 0;
     }
     if (!this->StateFileName.empty())

@@ -462,13 +462,13 @@ Status Simulation::checkMemory(int frames, double availableBytes) const
   };
   char per[32];
   std::snprintf(per, sizeof per, "%.2f MiB", perFrame / (1024.0 * 1024));
-  return Status::Error(
-      "the run's " + std::to_string(frames) + " frames (Duration × Frame Rate + 1) of " +
-      std::to_string(P->Frames.front().positions.size()) + " points would need " + gib(need) +
-      " of memory (" + per + " per frame, all kept in memory), more than the " +
-      gib(availableBytes) +
-      " allowed (half of this machine's memory); shorten Duration, lower Frame Rate or use "
-      "fewer strands or elements.");
+  return Status::Error("the run's " + std::to_string(frames) +
+                       " frames (Duration × Frame Rate + 1) of " +
+                       std::to_string(P->Frames.front().positions.size()) + " points would need " +
+                       gib(need) + " of memory (" + per +
+                       " per frame, all kept in memory), more than the " + gib(availableBytes) +
+                       " allowed; shorten Duration, lower Frame Rate or use "
+                       "fewer strands or elements.");
 }
 
 int Simulation::numberOfFrames() const
