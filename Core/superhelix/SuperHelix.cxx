@@ -506,12 +506,9 @@ int SuperHelix::locate(double s, double& u) const
 
 Eigen::Vector3d SuperHelix::position(double s) const
 {
-  double u;
-  const int e = locate(s, u);
-  const Element& el = Cur.elements[e];
-  HelixPoint hp;
-  helixPoint(Q.segment<3>(3 * e), Qdot.segment<3>(3 * e), u, hp);
-  return el.r0 + el.F0 * hp.g;
+  Eigen::Vector3d x, v;
+  positionAndVelocity(s, x, v);
+  return x;
 }
 
 Eigen::Matrix3d SuperHelix::frame(double s) const
@@ -525,14 +522,9 @@ Eigen::Matrix3d SuperHelix::frame(double s) const
 
 Eigen::Vector3d SuperHelix::velocity(double s) const
 {
-  double u;
-  const int e = locate(s, u);
-  const Element& el = Cur.elements[e];
-  HelixPoint hp;
-  const Eigen::Vector3d kd = Qdot.segment<3>(3 * e);
-  helixPoint(Q.segment<3>(3 * e), kd, u, hp);
-  const Eigen::Vector3d Fg = el.F0 * hp.g;
-  return el.v0 + el.omega0.cross(Fg) + el.F0 * hp.dg * kd;
+  Eigen::Vector3d x, v;
+  positionAndVelocity(s, x, v);
+  return v;
 }
 
 void SuperHelix::positionAndVelocity(double s, Eigen::Vector3d& position,
@@ -1170,11 +1162,9 @@ void SuperHelix::addContactJacobians(double h)
   Vec6 tailBeta = Vec6::Zero();
   for (int q = last; q >= 0; --q)
   {
-    Mat63 Z;
-    Z.topRows<3>() = Cur.elements[q].A;
-    Z.bottomRows<3>() = Cur.elements[q].W;
-    Mat63 upper = T * Z;             // T_q Z_q (+ Ψ_q below)
-    Mat36 lower = Z.transpose() * T; // Z_qᵀ T_q (+ Ψ'_q below)
+    const Mat63 Z = B.block<3, 6>(3 * q, 0).transpose(); // [A_q; W_q]
+    Mat63 upper = T * Z;                                 // T_q Z_q (+ Ψ_q below)
+    Mat36 lower = Z.transpose() * T;                     // Z_qᵀ T_q (+ Ψ'_q below)
     Eigen::Matrix3d diag = Z.transpose() * upper;
     Eigen::Vector3d rhs = Z.transpose() * tailBeta;
     if (touched[q])
