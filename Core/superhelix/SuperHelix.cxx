@@ -857,6 +857,70 @@ void SuperHelix::assembleTensionStiffness(double h)
                             Y[p].data(), 3 * p);
 }
 
+namespace
+{
+// The per-sample moments behind the velocity Jacobian's element maps (see
+// assembleVelocityJacobian), summed in plain arrays (column-major 3 × 3 blocks): written
+// with Eigen's 3 × 3 expressions the same sums cost about twice the instructions.
+//   PJ = Σ w J,  N_a = Σ w J_a Fgᵀ,  X = Σ w (J_0 × J_1, J_0 × J_2, J_1 × J_2),
+//   S2 = Σ w Fg Fgᵀ,  with Y = w F0 D (D = D²g[k̇, ·]):  Qm = Σ Jᵀ Y,  SD = Σ Y,  R = Σ [Fg]× Y.
+struct SampleMoments
+{
+  double sc = 0, sF[3] = {}, PJ[9] = {}, N[27] = {}, X[9] = {}, S2[9] = {}, Qm[9] = {}, SD[9] = {},
+         R[9] = {};
+
+  void add(double w, const double* __restrict J, const Eigen::Vector3d& fgv,
+           const double* __restrict F0, const double* __restrict D)
+  {
+    const double f[3] = {fgv[0], fgv[1], fgv[2]};
+    double wj[9], y[9];
+    for (int i = 0; i < 9; ++i)
+      wj[i] = w * J[i];
+    sc += w;
+    for (int i = 0; i < 3; ++i)
+      sF[i] += w * f[i];
+    for (int i = 0; i < 9; ++i)
+      PJ[i] += wj[i];
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        for (int b = 0; b < 3; ++b)
+          N[9 * a + 3 * c + b] += wj[3 * a + b] * f[c];
+    const double* const j1 = J + 3;
+    const double* const j2 = J + 6;
+    const double* const v0 = wj;
+    const double* const v1 = wj + 3;
+    X[0] += v0[1] * j1[2] - v0[2] * j1[1];
+    X[1] += v0[2] * j1[0] - v0[0] * j1[2];
+    X[2] += v0[0] * j1[1] - v0[1] * j1[0];
+    X[3] += v0[1] * j2[2] - v0[2] * j2[1];
+    X[4] += v0[2] * j2[0] - v0[0] * j2[2];
+    X[5] += v0[0] * j2[1] - v0[1] * j2[0];
+    X[6] += v1[1] * j2[2] - v1[2] * j2[1];
+    X[7] += v1[2] * j2[0] - v1[0] * j2[2];
+    X[8] += v1[0] * j2[1] - v1[1] * j2[0];
+    for (int c = 0; c < 3; ++c)
+      for (int b = 0; b < 3; ++b)
+        S2[3 * c + b] += w * f[b] * f[c];
+    for (int c = 0; c < 3; ++c)
+      for (int b = 0; b < 3; ++b)
+        y[3 * c + b] = w * (F0[b] * D[3 * c] + F0[3 + b] * D[3 * c + 1] + F0[6 + b] * D[3 * c + 2]);
+    for (int c = 0; c < 3; ++c)
+      for (int a = 0; a < 3; ++a)
+        Qm[3 * c + a] +=
+            J[3 * a] * y[3 * c] + J[3 * a + 1] * y[3 * c + 1] + J[3 * a + 2] * y[3 * c + 2];
+    for (int i = 0; i < 9; ++i)
+      SD[i] += y[i];
+    for (int c = 0; c < 3; ++c)
+    {
+      const double* const yc = y + 3 * c;
+      R[3 * c] += f[1] * yc[2] - f[2] * yc[1];
+      R[3 * c + 1] += f[2] * yc[0] - f[0] * yc[2];
+      R[3 * c + 2] += f[0] * yc[1] - f[1] * yc[0];
+    }
+  }
+};
+} // namespace
+
 void SuperHelix::assembleVelocityJacobian()
 {
   // C = ∂f/∂q̇ with f ∋ −ρS a0: a0 is quadratic in q̇ (plus root-coupled linear terms).
@@ -900,46 +964,60 @@ void SuperHelix::assembleVelocityJacobian()
     const Eigen::Vector3d kq = Q.segment<3>(3 * e), kd = Qdot.segment<3>(3 * e);
     const Eigen::Vector3d& om = el.omega0;
     Maps& m = maps[e];
-    m.Pc.setZero();
-    m.Pl.setZero();
-    m.Po.setZero();
-    m.Tl.setZero();
-    m.To.setZero();
-    m.ownR.setZero();
-    m.ownF.setZero();
-    m.ownM.setZero();
-    m.sumFg.setZero();
-    m.sumR.setZero();
-    m.Sc = 0;
-    Eigen::Vector3d sumJkd = Eigen::Vector3d::Zero();
+    // Every moment above is linear in a few per-sample moments (ω and k̇ are the element's),
+    // so only those (SampleMoments) are summed over the samples, and contracted here once
+    // per element.
+    SampleMoments sm;
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       const Node& nd = k.nodes[j];
-      const Eigen::Vector3d fg = nd.r - el.r0;
-      const Eigen::Matrix3d Phi = phi(om, fg, nd.jkd);
-      const Eigen::Matrix3d JtW = nd.w * nd.J.transpose();
-      m.Pc += JtW;
-      // −Jᵀ [Fg]× = ([Fg]× J)ᵀ
-      m.Pl.noalias() += nd.w * crossCols(fg, nd.J).transpose();
-      m.Po.noalias() += JtW * Phi;
-      m.Sc += nd.w;
-      m.sumFg += nd.w * fg;
-      sumJkd += nd.w * nd.jkd;
-      m.sumR += nd.w * nd.r;
-      // −[r]× [Fg]× = (r·Fg) I − Fg rᵀ
-      m.Tl.noalias() -= (nd.w * fg) * nd.r.transpose();
-      m.Tl.diagonal().array() += nd.w * nd.r.dot(fg);
-      m.To.noalias() += nd.w * crossCols(nd.r, Phi);
-      // Own element: δa0 = 2 ([ω]× J + F0 D²g[k̇, ·]) δk̇ at this sample.
       helixBilinear(kq, kd, nd.u, D2W, nullptr, &nd.coefficients);
-      Eigen::Matrix3d delta = crossCols(om, nd.J);
-      delta.noalias() += el.F0 * D2W;
-      delta *= 2 * nd.w;
-      m.ownR.noalias() += nd.J.transpose() * delta;
-      m.ownF += delta;
-      m.ownM.noalias() += crossCols(nd.r, delta);
+      sm.add(nd.w, nd.J.data(), nd.r - el.r0, el.F0.data(), D2W.data());
     }
-    m.So = phi(om, m.sumFg, sumJkd); // Σ w Φ
+    using M3 = Eigen::Map<const Eigen::Matrix3d>;
+    using V3 = Eigen::Map<const Eigen::Vector3d>;
+    const M3 PJ(sm.PJ), S2(sm.S2), Qm(sm.Qm), SD(sm.SD), R(sm.R);
+    const M3 N[3] = {M3(sm.N), M3(sm.N + 9), M3(sm.N + 18)};
+    const V3 X01(sm.X), X02(sm.X + 3), X12(sm.X + 6), sF(sm.sF);
+    const double sc = sm.sc;
+    // Σ_a k̇_a N_a = Σ w (J k̇) Fgᵀ, and J_a·Fg, J_a·ω, (Fg·ω) J_a, J_a × J k̇ summed.
+    const Eigen::Matrix3d JkdF = kd[0] * N[0] + kd[1] * N[1] + kd[2] * N[2];
+    const Eigen::Vector3d Xa[3] = {kd[1] * X01 + kd[2] * X02, kd[2] * X12 - kd[0] * X01,
+                                   -kd[0] * X02 - kd[1] * X12}; // Σ w J_a × J k̇
+    m.Sc = sc;
+    m.sumFg = sF;
+    m.sumR = sc * el.r0 + sF;
+    m.Pc = PJ.transpose();
+    Eigen::Vector3d trN, nOm[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const M3& Na = N[a];
+      trN[a] = Na.trace();        // Σ w J_a·Fg
+      nOm[a].noalias() = Na * om; // Σ w (Fg·ω) J_a
+      // −Jᵀ [Fg]× = ([Fg]× J)ᵀ: row a is Σ w Fg × J_a.
+      m.Pl.row(a) << Na(2, 1) - Na(1, 2), Na(0, 2) - Na(2, 0), Na(1, 0) - Na(0, 1);
+      // Jᵀ Φ, row a: (J_a·ω) Fgᵀ − 2 (J_a·Fg) ωᵀ + (ω·Fg) J_aᵀ − 2 (J_a × J k̇)ᵀ.
+      m.Po.row(a) = (Na.transpose() * om + nOm[a] - 2 * trN[a] * om - 2 * Xa[a]).transpose();
+    }
+    // −[r]× [Fg]× = (r·Fg) I − Fg rᵀ with r = r0 + Fg.
+    m.Tl = -S2 - sF * el.r0.transpose();
+    m.Tl.diagonal().array() += el.r0.dot(sF) + S2.trace();
+    const Eigen::Vector3d sumJkd = PJ * kd;
+    m.So = phi(om, sF, sumJkd); // Σ w Φ
+    // Σ w [r]× Φ = [r0]× Σ w Φ + Σ w [Fg]× Φ, and [Fg]× Φ = −[ω]× Fg Fgᵀ + (ω·Fg) [Fg]×
+    // − 2 (J k̇ Fgᵀ − (Fg·J k̇) I).
+    m.To = crossCols(el.r0, m.So) - crossCols(om, S2) + skew(S2 * om) - 2 * JkdF;
+    m.To.diagonal().array() += 2 * JkdF.trace();
+    // Own element: δa0 = 2 ([ω]× J + F0 D²g[k̇, ·]) δk̇ at a sample. Jᵀ [ω]× J has the
+    // entries J_a·(ω × J_b) = −ω·(J_a × J_b).
+    const double o01 = om.dot(X01), o02 = om.dot(X02), o12 = om.dot(X12);
+    m.ownR << 0, -o01, -o02, o01, 0, -o12, o02, o12, 0;
+    m.ownR = 2 * (m.ownR + Qm);
+    m.ownF = 2 * (crossCols(om, PJ) + SD);
+    // Σ w [Fg]× [ω]× J: column a is ω (J_a·Fg) − N_a ω.
+    m.ownM = crossCols(el.r0, m.ownF);
+    for (int a = 0; a < 3; ++a)
+      m.ownM.col(a) += 2 * (trN[a] * om - nOm[a] + R.col(a));
     m.PhiEnd = phi(om, el.fgEnd, el.jkdEnd);
     m.fgEnd = el.fgEnd;
     m.akd = el.akd;
