@@ -6,6 +6,7 @@ PV_PLUGIN_PATH, its proxies are registered (checked from the GUI's own Python wi
 Usage: gui_plugin_menu.py <HairDynamics.so> <output folder>
 """
 import os
+import select
 import shutil
 import subprocess
 import sys
@@ -31,13 +32,26 @@ found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filt
 open({marker!r}, "w").write(" ".join(found))
 """)
 
-display = None
-for n in range(60, 99):
-    if not os.path.exists(f"/tmp/.X{n}-lock"):
-        display = f":{n}"
+# Xvfb picks a free display itself and writes its number to a pipe when it is ready to take
+# connections (-displayfd); it also reclaims lock files left by servers that died. Choosing the
+# number here from /tmp/.X*-lock ran out of numbers once killed servers had left 39 stale locks.
+read_end, write_end = os.pipe()
+xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "1400x900x24"],
+                        pass_fds=(write_end,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+os.close(write_end)
+number = b""
+ready, _, _ = select.select([read_end], [], [], 30)
+while ready:
+    chunk = os.read(read_end, 16)
+    number += chunk
+    if not chunk or number.endswith(b"\n"):
         break
-xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "1400x900x24"],
-                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ready, _, _ = select.select([read_end], [], [], 30)
+os.close(read_end)
+if not number.strip().isdigit():
+    xvfb.kill()
+    sys.exit("Xvfb did not start within 30 s (it reported no display number)")
+display = ":" + number.strip().decode()
 env = dict(os.environ, DISPLAY=display, PV_PLUGIN_PATH=os.path.dirname(os.path.abspath(plugin)))
 log = open(os.path.join(out, "paraview_gui.log"), "w")
 gui = subprocess.Popen(["paraview", "--dr", f"--script={check}"], env=env, stdout=log, stderr=log)
@@ -73,8 +87,13 @@ try:
 finally:
     gui.kill()
     gui.wait()
-    xvfb.kill()
-    xvfb.wait()
+    # SIGTERM, not SIGKILL: Xvfb then removes its /tmp/.X<n>-lock and socket.
+    xvfb.terminate()
+    try:
+        xvfb.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        xvfb.kill()
+        xvfb.wait()
     log.close()
 errors = [line for line in open(os.path.join(out, "paraview_gui.log")) if "HairDynamics" in line and "rror" in line]
 if errors:
@@ -82,5 +101,5 @@ if errors:
 for f in failures:
     print("FAIL " + f)
 print(f"screenshot: {os.path.join(out, 'gui_filters_hair.png')}")
-print(f"{4 - len([f for f in failures if 'proxy' in f])} of 4 proxies registered in the GUI")
+print(f"{5 - len([f for f in failures if 'proxy' in f])} of 5 proxies registered in the GUI")
 sys.exit(1 if failures else 0)
