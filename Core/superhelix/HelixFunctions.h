@@ -59,4 +59,109 @@ namespace hair
 void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u,
                    Eigen::Matrix3d& d2gW, Eigen::Matrix3d* dGkW,
                    const HelixCoefficients* coefficients = nullptr);
+
+/// The parts of helixPoint that are linear in the element functions' values at u (with
+/// x = Ω u: a = u²φ1(x), b = u³φ2(x), da = u⁴ψ1(x), db = u⁵ψ2(x)), in the element's start frame:
+///   g = u e0 + a k×e0 + b k×(k×e0),
+///   ∂g/∂k_i = k_i (da k×e0 + db k×(k×e0)) + a e_i×e0 + b (k0 e_i − 2 k_i e0 + δ_i0 k).
+/// Called with other values they give the sums Σ c_f (coefficient of f), e.g. with Gram
+/// matrix rows (SuperHelix's FunctionGram).
+[[gnu::always_inline]] inline void helixGValues(const Eigen::Vector3d& k, double u, double a,
+                                                double b, Eigen::Vector3d& g)
+{
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  // k × e0 = (0, k2, −k1); w = k × (k × e0) = k k0 − Ω² e0, with w0 = −(k1² + k2²) summed
+  // directly (no cancellation when k is nearly along e0).
+  g = Eigen::Vector3d(u - b * (k1 * k1 + k2 * k2), a * k2 + b * (k1 * k0), b * (k2 * k0) - a * k1);
+}
+
+[[gnu::always_inline]] inline void helixJacobianValues(const Eigen::Vector3d& k, double a, double b,
+                                                       double da, double db, Eigen::Matrix3d& dg)
+{
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double w0 = -(k1 * k1 + k2 * k2), w1 = k1 * k0, w2 = k2 * k0;
+  // (e0×e0 = 0, e1×e0 = −e2, e2×e0 = e1).
+  const double z0 = db * w0, z1 = da * k2 + db * w1, z2 = db * w2 - da * k1;
+  const double bk0 = b * k0, b2 = 2 * b;
+  dg(0, 0) = k0 * z0;
+  dg(1, 0) = k0 * z1 + b * k1;
+  dg(2, 0) = k0 * z2 + b * k2;
+  dg(0, 1) = k1 * z0 - b2 * k1;
+  dg(1, 1) = k1 * z1 + bk0;
+  dg(2, 1) = k1 * z2 - a;
+  dg(0, 2) = k2 * z0 - b2 * k2;
+  dg(1, 2) = k2 * z1 + a;
+  dg(2, 2) = k2 * z2 + bk0;
+}
+
+/// helixBilinear from the values at u of the functions it is linear in: c3 = u³φ2,
+/// c1 = u⁴ψ1, c2 = u⁵ψ2, e6 = u⁶χ1, e7 = u⁷χ2 (φ, ψ, χ of Ω u); like helixJacobianValues,
+/// other values give sums of the coefficient matrices.
+[[gnu::always_inline]] inline void helixBilinearValues(const Eigen::Vector3d& k,
+                                                       const Eigen::Vector3d& v, double c3,
+                                                       double c1, double c2, double e6, double e7,
+                                                       Eigen::Matrix3d& d2gW,
+                                                       Eigen::Matrix3d* dGkW = nullptr)
+{
+  // Polarization of the quadratic forms in helixPoint / helixEnd, written out in scalars.
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double v0 = v.x(), v1 = v.y(), v2 = v.z();
+  // Partial sums over the other two components (k·v − k_i v_i, |k|² − k_i²).
+  const double kv12 = k1 * v1 + k2 * v2, kk12 = k1 * k1 + k2 * k2;
+  const double pv = k0 * v0 + kv12;
+  // Column j of d2gW is D²g[v, e_j] (k·e_j = k_j, v·e_j = v_j):
+  //   (u6 χ1 pv k_j + c1 v_j) k×e0 + c1 (pv e_j×e0 + k_j v×e0)
+  //   + (u7 χ2 pv k_j + c2 v_j) wk + c2 (pv (k0 e_j + δ_j0 k − 2 k_j e0) + k_j t)
+  //   + c3 (δ_j0 v + v0 e_j − 2 v_j e0),
+  // with k×e0 = (0, k2, −k1), wk = k k0 − Ω² e0, v×e0 = (0, v2, −v1), t = v k0 + k v0 − 2 pv e0.
+  // Collected: d2gW = α kᵀ + β vᵀ + (c2 pv k + c3 v) e0ᵀ + (c2 pv k0 + c3 v0) I
+  //                   + c1 pv (e1 e2ᵀ − e2 e1ᵀ), with Q0 = u7 χ2 pv k0 + c2 v0, n = c2 k0,
+  //   α = (u7 χ2 pv wk0 − 2 c2 (kv12 + pv), u6 χ1 pv k2 + c1 v2 + k1 Q0 + n v1,
+  //        k2 Q0 + n v2 − u6 χ1 pv k1 − c1 v1),
+  //   β = (c2 wk0 − 2 c3, c1 k2 + n k1, n k2 − c1 k1),
+  // where wk0 = −(k1² + k2²) and v0 k0 − 2 pv = −(kv12 + pv).
+  const double al = e6 * pv, be = e7 * pv;
+  const double w0 = -kk12;
+  const double Q0 = be * k0 + c2 * v0, n = c2 * k0;
+  const double c2pv = c2 * pv, c1pv = c1 * pv;
+  const double A0 = be * w0 - 2 * c2 * (kv12 + pv), B0 = c2 * w0 - 2 * c3;
+  const double A1 = al * k2 + c1 * v2 + (k1 * Q0 + n * v1), B1 = c1 * k2 + n * k1;
+  const double A2 = k2 * Q0 + n * v2 - (al * k1 + c1 * v1), B2 = n * k2 - c1 * k1;
+  const double dI = c2pv * k0 + c3 * v0;
+  d2gW(0, 0) = A0 * k0 + B0 * v0 + 2 * dI;
+  d2gW(1, 0) = A1 * k0 + B1 * v0 + (c2pv * k1 + c3 * v1);
+  d2gW(2, 0) = A2 * k0 + B2 * v0 + (c2pv * k2 + c3 * v2);
+  d2gW(0, 1) = A0 * k1 + B0 * v1;
+  d2gW(1, 1) = A1 * k1 + B1 * v1 + dI;
+  d2gW(2, 1) = A2 * k1 + B2 * v1 - c1pv;
+  d2gW(0, 2) = A0 * k2 + B0 * v2;
+  d2gW(1, 2) = A1 * k2 + B1 * v2 + c1pv;
+  d2gW(2, 2) = A2 * k2 + B2 * v2 + dI;
+  if (!dGkW)
+    return;
+  // Column i of dGkW, w = e_i (K = [k]×, so k×e_i = K e_i, k×(k×e_i) = K² e_i):
+  //   ½ (c1 (k_i k×v + pv K e_i) + c2 (k_i k×(k×v) + pv K² e_i) + c3 (e_i×(k×v) + v×(K e_i)))
+  // = k_i q + z_i k + [s]× e_i off the diagonal, with q = ½ (c1 k×v + c2 k×(k×v)),
+  //   z = ½ (c2 pv k + c3 v), s = ½ (c1 pv k − c3 k×v), since K² = k kᵀ − Ω² I,
+  //   v×(k×e_i) = k v_i − (k·v) e_i and e_i×a = −[a]× e_i.
+  // The diagonal's −Ω² and −(k·v) parts are summed over the other two components, as the
+  // cross products give them (no cancellation when one component of k dominates).
+  Eigen::Matrix3d& D = *dGkW;
+  const double h1 = 0.5 * c1, h2 = 0.5 * c2, h3 = 0.5 * c3;
+  const double x0 = k1 * v2 - k2 * v1, x1 = k2 * v0 - k0 * v2, x2 = k0 * v1 - k1 * v0; // k×v
+  const double y0 = k1 * x2 - k2 * x1, y1 = k2 * x0 - k0 * x2, y2 = k0 * x1 - k1 * x0; // k×(k×v)
+  const double q0 = h1 * x0 + h2 * y0, q1 = h1 * x1 + h2 * y1, q2 = h1 * x2 + h2 * y2;
+  const double h2pv = h2 * pv, h1pv = h1 * pv;
+  const double z0 = h2pv * k0 + h3 * v0, z1 = h2pv * k1 + h3 * v1, z2 = h2pv * k2 + h3 * v2;
+  const double s0 = h1pv * k0 - h3 * x0, s1 = h1pv * k1 - h3 * x1, s2 = h1pv * k2 - h3 * x2;
+  D(0, 0) = q0 * k0 - h2pv * kk12 - h3 * kv12;
+  D(1, 1) = q1 * k1 - h2pv * (k2 * k2 + k0 * k0) - h3 * (v2 * k2 + v0 * k0);
+  D(2, 2) = q2 * k2 - h2pv * (k0 * k0 + k1 * k1) - h3 * (v0 * k0 + v1 * k1);
+  D(0, 1) = q0 * k1 + k0 * z1 - s2;
+  D(1, 0) = q1 * k0 + k1 * z0 + s2;
+  D(0, 2) = q0 * k2 + k0 * z2 + s1;
+  D(2, 0) = q2 * k0 + k2 * z0 - s1;
+  D(1, 2) = q1 * k2 + k1 * z2 - s0;
+  D(2, 1) = q2 * k1 + k2 * z1 + s0;
+}
 } // namespace hair

@@ -926,6 +926,106 @@ struct SampleMoments
     }
   }
 };
+
+// The same moments from a Gram matrix of scalar functions, for elements with many samples.
+// Every per-sample quantity above is linear in seven functions of u with coefficients that
+// are constant on the element (helixPoint, helixBilinear), in the element's start frame:
+//   f = (u, a = u²φ1, b = u³φ2, c1 = u⁴ψ1, c2 = u⁵ψ2, e6 = u⁶χ1, e7 = u⁷χ2)  (φ, ψ, χ of Ω u),
+//   g = u e0 + a k×e0 + b k×(k×e0)                       (f0, f1, f2),
+//   ∂g/∂k = a [e_i × e0]_i + b (k0 I − 2 e0 kᵀ + k e0ᵀ) + c1 (k×e0) kᵀ + c2 k×(k×e0) kᵀ
+//                                                        (f1 … f4),
+//   D = D²g[k̇, ·] = helixBilinearValues(k, k̇, f2, f3, f4, f5, f6)  (f2 … f6),
+// and J = F0 ∂g/∂k, Fg = F0 g, Y = w F0 D. So each moment is a contraction of the Gram
+// matrix Σ w f_i f_j (28 numbers) and the sums Σ w f_i with those coefficients, e.g.
+// Σ w J_a Fgᵀ = F0 (Σ_ij G_ij ∂g_i/∂k_a g_jᵀ) F0ᵀ, Σ Jᵀ Y = Σ_ij G_ij (∂g_i/∂k)ᵀ D_j and
+// Σ w J_a × J_b = F0 Σ_ij G_ij ∂g_i/∂k_a × ∂g_j/∂k_b (F0 a proper rotation). Per sample
+// that is 35 products instead of SampleMoments::add and helixBilinear; the contraction is a
+// fixed cost per element, which pays from GramMinSamples samples on.
+struct FunctionGram
+{
+  double sw = 0, m[7] = {}, G[7][7] = {}; // G: upper triangle while summing
+
+  void add(double w, double u, const HelixCoefficients& c)
+  {
+    const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
+    const double f[7] = {u,           u2 * c.phi1, u3 * c.phi2, u4 * c.psi1,
+                         u5 * c.psi2, u6 * c.chi1, u7 * c.chi2};
+    sw += w;
+    for (int i = 0; i < 7; ++i)
+    {
+      const double wf = w * f[i];
+      m[i] += wf;
+      for (int j = i; j < 7; ++j)
+        G[i][j] += wf * f[j];
+    }
+  }
+
+  // The moments of SampleMoments from the sums, for curvature k, rate kd and start frame F0.
+  // The helix kernels are linear in the functions' values, so a row of G passed as values
+  // gives Σ_h G_fh (coefficient of h) without forming the coefficient matrices.
+  void moments(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, const Eigen::Matrix3d& F0,
+               SampleMoments& out)
+  {
+    for (int i = 0; i < 7; ++i)
+      for (int j = 0; j < i; ++j)
+        G[i][j] = G[j][i];
+    using M3 = Eigen::Matrix3d;
+    using V3 = Eigen::Vector3d;
+    const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+    // Coefficients of g: e0, k×e0, k×(k×e0) (functions 0, 1, 2).
+    const V3 g[3] = {V3::UnitX(), V3(0, k2, -k1), V3(-(k1 * k1 + k2 * k2), k1 * k0, k2 * k0)};
+    // Coefficients of ∂g/∂k (functions 1 … 4).
+    M3 dg[5];
+    for (int f = 1; f < 5; ++f)
+      helixJacobianValues(k, f == 1, f == 2, f == 3, f == 4, dg[f]);
+    // Rows of G contracted: T_f = Σ_h G_fh g_h, U_f = Σ_h G_fh ∂g_h, V_f = Σ_h G_fh D_h.
+    V3 T[5];
+    M3 U[5], V[5];
+    for (int f = 0; f < 5; ++f)
+    {
+      const double* r = G[f];
+      helixGValues(k, r[0], r[1], r[2], T[f]);
+      helixJacobianValues(k, r[1], r[2], r[3], r[4], U[f]);
+      helixBilinearValues(k, kd, r[2], r[3], r[4], r[5], r[6], V[f]);
+    }
+    V3 sF;
+    M3 PJ, SD;
+    helixGValues(k, m[0], m[1], m[2], sF);
+    helixJacobianValues(k, m[1], m[2], m[3], m[4], PJ);
+    helixBilinearValues(k, kd, m[2], m[3], m[4], m[5], m[6], SD);
+    // Σ w ∂g_a gᵀ = Σ_h U_h(:, a) g_hᵀ, Σ w g gᵀ = Σ_f g_f T_fᵀ, Σ w [g]× D = Σ_f [g_f]× V_f,
+    // Σ w ∂g_a × ∂g_b = Σ_f ∂g_f(:, a) × U_f(:, b), Σ w ∂gᵀ D = Σ_f ∂g_fᵀ V_f.
+    M3 Nl[3], S2 = M3::Zero(), R = M3::Zero(), Qm = M3::Zero();
+    for (int a = 0; a < 3; ++a)
+      Nl[a].noalias() = U[0].col(a) * g[0].transpose() + U[1].col(a) * g[1].transpose() +
+                        U[2].col(a) * g[2].transpose();
+    for (int f = 0; f < 3; ++f)
+    {
+      S2.noalias() += g[f] * T[f].transpose();
+      R += crossCols(g[f], V[f]);
+    }
+    V3 X[3] = {V3::Zero(), V3::Zero(), V3::Zero()};
+    for (int f = 1; f < 5; ++f)
+    {
+      X[0] += dg[f].col(0).cross(U[f].col(1));
+      X[1] += dg[f].col(0).cross(U[f].col(2));
+      X[2] += dg[f].col(1).cross(U[f].col(2));
+      Qm.noalias() += dg[f].transpose() * V[f];
+    }
+    out.sc = sw;
+    Eigen::Map<V3>(out.sF) = F0 * sF;
+    Eigen::Map<M3>(out.PJ) = F0 * PJ;
+    for (int a = 0; a < 3; ++a)
+    {
+      Eigen::Map<M3>(out.N + 9 * a) = F0 * Nl[a] * F0.transpose();
+      Eigen::Map<V3>(out.X + 3 * a) = F0 * X[a];
+    }
+    Eigen::Map<M3>(out.S2) = F0 * S2 * F0.transpose();
+    Eigen::Map<M3>(out.Qm) = Qm;
+    Eigen::Map<M3>(out.SD) = F0 * SD;
+    Eigen::Map<M3>(out.R) = F0 * R;
+  }
+};
 } // namespace
 
 void SuperHelix::assembleVelocityJacobian()
@@ -975,12 +1075,20 @@ void SuperHelix::assembleVelocityJacobian()
     // so only those (SampleMoments) are summed over the samples, and contracted here once
     // per element.
     SampleMoments sm;
-    for (int j = el.first; j < el.first + el.count; ++j)
+    if (el.count >= GramMinSamples)
     {
-      const Node& nd = k.nodes[j];
-      helixBilinear(kq, kd, nd.u, D2W, nullptr, &nd.coefficients);
-      sm.add(nd.w, nd.J.data(), nd.r - el.r0, el.F0.data(), D2W.data());
+      FunctionGram fg;
+      for (int j = el.first; j < el.first + el.count; ++j)
+        fg.add(k.nodes[j].w, k.nodes[j].u, k.nodes[j].coefficients);
+      fg.moments(kq, kd, el.F0, sm);
     }
+    else
+      for (int j = el.first; j < el.first + el.count; ++j)
+      {
+        const Node& nd = k.nodes[j];
+        helixBilinear(kq, kd, nd.u, D2W, nullptr, &nd.coefficients);
+        sm.add(nd.w, nd.J.data(), nd.r - el.r0, el.F0.data(), D2W.data());
+      }
     using M3 = Eigen::Map<const Eigen::Matrix3d>;
     using V3 = Eigen::Map<const Eigen::Vector3d>;
     const M3 PJ(sm.PJ), S2(sm.S2), Qm(sm.Qm), SD(sm.SD), R(sm.R);

@@ -187,6 +187,13 @@ public:
   void prefetch() const;
   /// Upper bound on the sub-steps of advance().
   static constexpr int MaxSubsteps = 256;
+  /// Elements with at least this many quadrature samples sum the velocity Jacobian's
+  /// moments from a Gram matrix of the helix functions (the same sums in another order:
+  /// cheaper per sample, dearer per element; see FunctionGram in SuperHelix.cxx). Measured
+  /// break-even, C alone in one process: 6 samples per element (wavy) ±2 %, 8 (curly) −5 %,
+  /// 16 (fuzzy) −26 %. A tuning knob, not a model setting: the tests set it to 1 and to a
+  /// large value to compare both ways.
+  static inline int GramMinSamples = 7;
 
 private:
   struct Node

@@ -540,29 +540,74 @@ TEST(SuperHelixKinematics, VelocityJacobianMatchesFiniteDifferencesOfTheForce)
   // C = ∂f/∂q̇ (the linearized velocity-dependent terms of the step) against central
   // differences of the generalized force in q̇. f is quadratic in q̇, so central
   // differences are exact up to round-off (~1e-16 |f| / ε); 1e-7 of max |C| is far above
-  // that and far below the O(1) error of a missing or doubled term.
+  // that and far below the O(1) error of a missing or doubled term. Both ways of summing the
+  // element moments are checked: per sample (threshold above any count) and from the Gram
+  // matrix of the helix functions (threshold 1: every element).
   const Curled c;
-  SuperHelix h = c.make(0.3, c.q);
-  h.reconstruct();
-  h.assemble();
-  h.assembleVelocityJacobian();
-  const Eigen::MatrixXd C = h.velocityJacobian();
-  const double eps = 1e-2;
-  for (int b = 0; b < 12; ++b)
+  const int saved = SuperHelix::GramMinSamples;
+  for (const int threshold : {1000, 1})
   {
-    SuperHelix hp, hm;
-    ASSERT_TRUE(hp.initialize(c.spec, 0.3).ok());
-    ASSERT_TRUE(hm.initialize(c.spec, 0.3).ok());
-    Eigen::VectorXd vp = c.qd, vm = c.qd;
-    vp[b] += eps;
-    vm[b] -= eps;
-    ASSERT_TRUE(hp.setState(c.q, vp).ok());
-    ASSERT_TRUE(hm.setState(c.q, vm).ok());
-    hp.assemble();
-    hm.assemble();
-    const Eigen::VectorXd fd = (hp.generalizedForce() - hm.generalizedForce()) / (2 * eps);
-    EXPECT_LT((C.col(b) - fd).cwiseAbs().maxCoeff(), 1e-7 * C.cwiseAbs().maxCoeff()) << b;
+    SuperHelix::GramMinSamples = threshold;
+    SuperHelix h = c.make(0.3, c.q);
+    h.reconstruct();
+    h.assemble();
+    h.assembleVelocityJacobian();
+    const Eigen::MatrixXd C = h.velocityJacobian();
+    const double eps = 1e-2;
+    for (int b = 0; b < 12; ++b)
+    {
+      SuperHelix hp, hm;
+      ASSERT_TRUE(hp.initialize(c.spec, 0.3).ok());
+      ASSERT_TRUE(hm.initialize(c.spec, 0.3).ok());
+      Eigen::VectorXd vp = c.qd, vm = c.qd;
+      vp[b] += eps;
+      vm[b] -= eps;
+      ASSERT_TRUE(hp.setState(c.q, vp).ok());
+      ASSERT_TRUE(hm.setState(c.q, vm).ok());
+      hp.assemble();
+      hm.assemble();
+      const Eigen::VectorXd fd = (hp.generalizedForce() - hm.generalizedForce()) / (2 * eps);
+      EXPECT_LT((C.col(b) - fd).cwiseAbs().maxCoeff(), 1e-7 * C.cwiseAbs().maxCoeff())
+          << "column " << b << ", Gram threshold " << threshold;
+    }
   }
+  SuperHelix::GramMinSamples = saved;
+}
+
+TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGramMatrix)
+{
+  // The velocity Jacobian's element moments summed sample by sample and contracted from the
+  // Gram matrix of the seven helix functions are the same sums in another order, so they
+  // must agree to round-off: on strands of every preset (3 to 16 samples per element),
+  // moving, after a second on the shaking head. Bound: 1e-12 of max |C| (each entry is a
+  // sum of a few hundred products; measured agreement is reported on failure).
+  const int saved = SuperHelix::GramMinSamples;
+  for (int t = 0; t < 4; ++t)
+  {
+    StrandSpec spec = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType(t)));
+    HeadShake shake;
+    shake.frequency = 3;
+    shake.amplitude = 0.5;
+    spec.root = shake;
+    SuperHelix h;
+    ASSERT_TRUE(h.initialize(spec).ok());
+    for (int i = 0; i < 30; ++i)
+      ASSERT_TRUE(h.step(1.0 / 30).ok());
+    Eigen::MatrixXd C[2];
+    for (int way = 0; way < 2; ++way)
+    {
+      SuperHelix::GramMinSamples = way == 0 ? 1000 : 1;
+      h.reconstruct();
+      h.assemble();
+      h.assembleVelocityJacobian();
+      C[way] = h.velocityJacobian();
+    }
+    const double scale = C[0].cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0);
+    EXPECT_LT((C[1] - C[0]).cwiseAbs().maxCoeff(), 1e-12 * scale)
+        << "preset " << t << ": " << (C[1] - C[0]).cwiseAbs().maxCoeff() / scale;
+  }
+  SuperHelix::GramMinSamples = saved;
 }
 
 TEST(SuperHelixKinematics, TensionStiffnessIsTheLoadStiffnessOfAStraightHangingStrand)
