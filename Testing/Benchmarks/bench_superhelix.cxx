@@ -14,11 +14,18 @@
 //                            q from a tight rule (1e-12), q_dev, next to the time step's
 //                            own error at 1/30 s (from 1/480 s), dt_dev, both relative to
 //                            max |q|: what a looser rule buys and what it costs
+//   BM_GramSideBySide/<p>    the velocity Jacobian C and the whole step (N = 10) with the
+//                            element moments summed per sample and from the Gram matrix
+//                            (SuperHelix::GramMinSamples above any count, and 1), the two
+//                            ways interleaved in blocks of a few µs, so that the machine's
+//                            slow periods (seconds long) hit both alike; counters: minimum
+//                            µs per call of each way, and samples per element
 #include "superhelix/SuperHelix.h"
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -289,6 +296,42 @@ void BM_StepTolerance(benchmark::State& state)
   state.SetLabel(toString(type));
 }
 
+void BM_GramSideBySide(benchmark::State& state)
+{
+  const SuperHelix warm = warmStrand(static_cast<HairType>(state.range(0)), 10);
+  const int saved = SuperHelix::GramMinSamples;
+  using Clock = std::chrono::steady_clock;
+  double bestC[2] = {1e30, 1e30}, bestStep[2] = {1e30, 1e30};
+  for (auto _ : state)
+    for (int way = 0; way < 2; ++way)
+    {
+      SuperHelix::GramMinSamples = way == 0 ? 1 << 30 : 1;
+      SuperHelix h = warm;
+      h.reconstruct();
+      h.assemble();
+      auto t0 = Clock::now();
+      for (int i = 0; i < 20; ++i)
+        h.assembleVelocityJacobian();
+      auto t1 = Clock::now();
+      bestC[way] =
+          std::min(bestC[way], std::chrono::duration<double, std::micro>(t1 - t0).count() / 20);
+      t0 = Clock::now();
+      for (int i = 0; i < 10; ++i)
+        (void)h.step(1.0 / 30);
+      t1 = Clock::now();
+      bestStep[way] =
+          std::min(bestStep[way], std::chrono::duration<double, std::micro>(t1 - t0).count() / 10);
+    }
+  SuperHelix::GramMinSamples = saved;
+  SuperHelix h = warm;
+  h.reconstruct();
+  state.counters["C_per_sample_us"] = bestC[0];
+  state.counters["C_gram_us"] = bestC[1];
+  state.counters["step_per_sample_us"] = bestStep[0];
+  state.counters["step_gram_us"] = bestStep[1];
+  state.counters["samples_per_element"] = double(h.samples().size()) / 10;
+}
+
 void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int type : {0, 1, 2, 3})
@@ -313,6 +356,7 @@ BENCHMARK(BM_ReferenceState)->DenseRange(0, 3)->Iterations(1);
 BENCHMARK(BM_StepTolerance)
     ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2, 3}})
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GramSideBySide)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StrandsPerSecond)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RealTimeGuides)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
