@@ -971,10 +971,10 @@ struct FunctionGram
         G[i][j] = G[j][i];
     using M3 = Eigen::Matrix3d;
     using V3 = Eigen::Vector3d;
-    const double k0 = k.x(), k1 = k.y(), k2 = k.z();
-    // Coefficients of g: e0, k×e0, k×(k×e0) (functions 0, 1, 2).
-    const V3 g[3] = {V3::UnitX(), V3(0, k2, -k1), V3(-(k1 * k1 + k2 * k2), k1 * k0, k2 * k0)};
-    // Coefficients of ∂g/∂k (functions 1 … 4).
+    // Coefficients of g (functions 0 … 2: e0, k×e0, k×(k×e0)) and of ∂g/∂k (1 … 4).
+    V3 g[3];
+    for (int f = 0; f < 3; ++f)
+      helixGValues(k, f == 0, f == 1, f == 2, g[f]);
     M3 dg[5];
     for (int f = 1; f < 5; ++f)
       helixJacobianValues(k, f == 1, f == 2, f == 3, f == 4, dg[f]);
