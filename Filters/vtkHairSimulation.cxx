@@ -35,6 +35,9 @@ struct vtkHairSimulation::Internals
   vtkMTimeType BuiltAt = 0; ///< max MTime of this filter and its inputs when Sim was built
   hair::StateFileWriter Writer;
   std::string WrittenTo;
+  /// Frames kept in memory with their arrays: all of them when the run fits in the memory
+  /// budget; otherwise (with a state file) the newest Window, older ones read back from it.
+  int Window = std::numeric_limits<int>::max();
 };
 
 vtkHairSimulation::vtkHairSimulation() : Internal(std::make_unique<Internals>())
@@ -281,15 +284,33 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
       vtkErrorMacro(<< "Hair Simulation: " << s.message());
       return 0;
     }
-    // Every frame stays in memory: refuse a run that cannot fit before computing any of it
-    // (running out of memory part-way would take ParaView down with it).
+    // Frames stay in memory while the run fits in the budget. A longer run with a state file
+    // keeps only the newest frames' arrays (the others are read back from the file); without
+    // one it is refused before any of it is computed (running out of memory part-way would
+    // take ParaView down with it).
     const int frames =
         static_cast<int>(std::floor(this->Duration / (1.0 / this->FrameRate) + 1e-9)) + 1;
-    if (hair::Status s = in.Sim.checkMemory(frames, 0.5 * physicalMemoryBytes()); !s)
+    const double budget =
+        this->MemoryBudget > 0 ? this->MemoryBudget * 1048576.0 : 0.5 * physicalMemoryBytes();
+    const std::string budgetText =
+        this->MemoryBudget > 0
+            ? " The budget is Memory Budget."
+            : " The budget is half of this machine's memory; Memory Budget sets another.";
+    in.Window = std::numeric_limits<int>::max();
+    if (hair::Status s = in.Sim.checkMemory(frames, budget); !s)
     {
-      vtkErrorMacro(<< "Hair Simulation: " << s.message()
-                    << " (The budget is half of this machine's memory.)");
-      return 0;
+      const double window = std::floor(budget / std::max(in.Sim.bytesPerFrame(), 1.0));
+      if (this->StateFileName.empty() || window < 2)
+      {
+        vtkErrorMacro(<< "Hair Simulation: " << s.message()
+                      << (this->StateFileName.empty()
+                              ? " Or set State File Name: the frames beyond the budget are then "
+                                "kept in the file only, and read back from it when asked for."
+                              : " Even streaming to the state file needs two frames in memory.")
+                      << budgetText);
+        return 0;
+      }
+      in.Window = static_cast<int>(std::min(window, double(frames)));
     }
     if (!this->StateFileName.empty())
     {
@@ -336,6 +357,20 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
         in.Writer.close();
       }
     }
+    if (in.Window < std::numeric_limits<int>::max())
+    {
+      // Streaming: the frame leaving the window is in the file (written in order), so its
+      // arrays can go. A file that failed cannot take them: stop rather than lose frames.
+      if (!in.Writer.isOpen())
+      {
+        vtkErrorMacro(<< "Hair Simulation: the state file " << this->StateFileName
+                      << " can no longer be written, and this run does not fit in memory "
+                         "without it; stopped at t = "
+                      << in.Sim.frame(f).time << " s (the frames up to it are in the file).");
+        return 0;
+      }
+      in.Sim.releaseFrameData(f - in.Window);
+    }
     this->UpdateProgress(double(f - before + 1) / (index - before + 1));
     if (this->GetAbortExecute())
     {
@@ -345,7 +380,23 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
       break;
     }
   }
-  const hair::StateFrame& frame = in.Sim.frame(index);
+  // A frame that left the streaming window is read back from the state file (opened for
+  // each such request: the file grows while the run goes on).
+  hair::StateFrame fromFile;
+  if (!in.Sim.hasFrameData(index))
+  {
+    hair::StateFileReader reader;
+    hair::Status s = reader.open(this->StateFileName);
+    s = s ? reader.readFrame(index, fromFile) : s;
+    if (!s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: frame " << index << " (t = " << in.Sim.frame(index).time
+                    << " s) is no longer in memory and could not be read back from "
+                    << this->StateFileName << ": " << s.message());
+      return 0;
+    }
+  }
+  const hair::StateFrame& frame = in.Sim.hasFrameData(index) ? in.Sim.frame(index) : fromFile;
   vtkPolyData* strandsOut = vtkPolyData::GetData(outputVector, 0);
   hair::convert::toStrands(in.Sim.header(), frame, strandsOut);
   strandsOut->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);

@@ -102,6 +102,12 @@ public:
   vtkSetStdStringFromCharMacro(StateFileName);
   vtkGetCharFromStdStringMacro(StateFileName);
 
+  /// Memory the frames may take, in MiB; 0: half of this machine's memory. A run that needs
+  /// more is refused, unless a state file is set: then only the newest frames that fit stay
+  /// in memory and earlier ones are read back from the file.
+  vtkSetClampMacro(MemoryBudget, double, 0.0, 1e9);
+  vtkGetMacro(MemoryBudget, double);
+
   /// Drops every computed frame: the next request starts again from t = 0.
   void Reset();
 
@@ -139,6 +145,7 @@ protected:
   double HairContactFriction = 1e-5;    ///< N·s/m, viscous
   double SlipVelocity = 1e-3;           ///< m/s
   std::string StateFileName;
+  double MemoryBudget = 0; ///< MiB, 0: half of the machine's memory
 
 private:
   vtkHairSimulation(const vtkHairSimulation&) = delete;

@@ -431,7 +431,7 @@ double Simulation::bytesPerFrame() const
   {
     return 0;
   }
-  const StateFrame& f = P->Frames.front();
+  const StateFrame& f = P->Frames.back();
   double bytes = sizeof(StateFrame) +
                  sizeof(Eigen::Vector3d) * double(f.positions.size() + f.velocities.size()) +
                  sizeof(double) * double(f.q.size() + f.qdot.size());
@@ -457,14 +457,17 @@ Status Simulation::checkMemory(int frames, double availableBytes) const
   auto gib = [](double b)
   {
     char s[32];
-    std::snprintf(s, sizeof s, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+    if (b >= 1024.0 * 1024 * 1024)
+      std::snprintf(s, sizeof s, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+    else
+      std::snprintf(s, sizeof s, "%.1f MiB", b / (1024.0 * 1024));
     return std::string(s);
   };
   char per[32];
   std::snprintf(per, sizeof per, "%.2f MiB", perFrame / (1024.0 * 1024));
   return Status::Error("the run's " + std::to_string(frames) +
                        " frames (Duration × Frame Rate + 1) of " +
-                       std::to_string(P->Frames.front().positions.size()) + " points would need " +
+                       std::to_string(P->Frames.back().positions.size()) + " points would need " +
                        gib(need) + " of memory (" + per +
                        " per frame, all kept in memory), more than the " + gib(availableBytes) +
                        " allowed; shorten Duration, lower Frame Rate or use "
@@ -478,6 +481,27 @@ int Simulation::numberOfFrames() const
 const StateFrame& Simulation::frame(int index) const
 {
   return P->Frames.at(index);
+}
+
+void Simulation::releaseFrameData(int index)
+{
+  if (index < 0 || index + 1 >= numberOfFrames())
+  {
+    return; // unknown, or the newest frame
+  }
+  StateFrame& f = P->Frames[index];
+  // Swapped with empty containers, so that the memory is returned (clear() keeps capacity).
+  std::vector<Eigen::Vector3d>().swap(f.positions);
+  std::vector<Eigen::Vector3d>().swap(f.velocities);
+  std::vector<double>().swap(f.q);
+  std::vector<double>().swap(f.qdot);
+  f.pointData.clear();
+}
+
+bool Simulation::hasFrameData(int index) const
+{
+  const StateFrame& f = P->Frames.at(index);
+  return !f.positions.empty() || P->Header.numberOfPoints() == 0;
 }
 const StateHeader& Simulation::header() const
 {

@@ -120,9 +120,18 @@ public:
   Status advanceTo(int frames, const Progress& progress = {});
 
   int numberOfFrames() const;
+  /// Frame `index`; after releaseFrameData(index) only its time and energy are left (its
+  /// arrays are empty: read it back from the state file).
   const StateFrame& frame(int index) const;
+  /// Frees frame `index`'s per-point arrays, q and q̇, keeping its time and energy: for a
+  /// caller that has the frame elsewhere (written to the state file) and streams a run
+  /// longer than memory holds. The newest frame is never released (bytesPerFrame()
+  /// measures it); an index out of range is ignored.
+  void releaseFrameData(int index);
+  /// False once releaseFrameData(index) was called.
+  bool hasFrameData(int index) const;
   /// Memory one frame takes (bytes): positions, velocities, per-point arrays, q and q̇ of
-  /// frame 0 (every frame has the same sizes).
+  /// the newest frame (every frame has the same sizes).
   double bytesPerFrame() const;
   /// Frames are kept in memory: refuses a run of `frames` frames whose frames would need
   /// more than `availableBytes`, with the figures and what to change (call after

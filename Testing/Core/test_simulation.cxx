@@ -162,6 +162,46 @@ TEST_P(SimulationModels, RunsThatCannotFitInMemoryAreRefusedBeforeTheyStart)
     EXPECT_NE(refused.message().find(part), std::string::npos) << refused.message();
 }
 
+TEST_P(SimulationModels, ReleasedFramesKeepTheirTimeAndEnergyAndTheRunGoesOn)
+{
+  // Streaming a long run to its state file: the arrays of frames that are in the file are
+  // freed, their time and energy stay (the energy table shows every frame), the newest frame
+  // is never released, and the run after a release is the run without one.
+  auto g = guides(3, GetParam() == StrandModel::SuperHelix ? 5 : 20);
+  SimulationOptions o;
+  o.model = GetParam();
+  Simulation kept, streamed;
+  ASSERT_TRUE(kept.initialize(g, {}, o).ok());
+  ASSERT_TRUE(streamed.initialize(g, {}, o).ok());
+  const double perFrame = streamed.bytesPerFrame();
+  ASSERT_TRUE(kept.advanceTo(6).ok());
+  for (int f = 1; f <= 5; ++f)
+  {
+    ASSERT_TRUE(streamed.advanceTo(f + 1).ok());
+    streamed.releaseFrameData(f - 2); // a window of two frames; f − 2 < 0 is ignored
+  }
+  streamed.releaseFrameData(5); // the newest: ignored
+  streamed.releaseFrameData(99);
+  ASSERT_EQ(streamed.numberOfFrames(), 6);
+  for (int f = 0; f < 6; ++f)
+  {
+    EXPECT_EQ(streamed.hasFrameData(f), f >= 4) << f;
+    EXPECT_EQ(streamed.frame(f).time, kept.frame(f).time);
+    EXPECT_EQ(streamed.frame(f).energy, kept.frame(f).energy);
+    if (f < 4)
+    {
+      EXPECT_TRUE(streamed.frame(f).positions.empty() && streamed.frame(f).velocities.empty() &&
+                  streamed.frame(f).q.empty() && streamed.frame(f).pointData.empty());
+    }
+    else
+    {
+      EXPECT_EQ(streamed.frame(f).positions, kept.frame(f).positions) << f;
+      EXPECT_EQ(streamed.frame(f).q, kept.frame(f).q) << f;
+    }
+  }
+  EXPECT_EQ(streamed.bytesPerFrame(), perFrame);
+}
+
 INSTANTIATE_TEST_SUITE_P(BothModels, SimulationModels,
                          ::testing::Values(StrandModel::SuperHelix, StrandModel::Projective),
                          [](const auto& info) {

@@ -97,6 +97,38 @@ if need > budget:
 else:
     print(f"skip: this machine's memory would hold {need / 2**30:.0f} GiB of frames")
 
+# Streaming: with a state file, a run longer than Memory Budget keeps only its newest frames
+# in memory and reads earlier ones back from the file; every frame must be the one the
+# in-memory run gives, in any order of requests. Without a file the same run is refused,
+# and the message says a state file would let it run.
+motion = dict(Input=strands, Colliders=[head], Duration=0.5, FrameRate=30, BodyMotion="Shake",
+              MotionAmplitude=0.3)
+reference = HairSimulation(**motion)  # noqa: F821
+reference.UpdatePipeline(0.0)
+# About three frames: 9 doubles per point (positions, velocities, 3 per-point arrays) are
+# most of a frame, so the window holds two.
+budget_mib = 3 * 72 * fetch(reference).GetNumberOfPoints() / 2**20
+streamed = HairSimulation(StateFileName=os.path.join(tmp, "streamed.h5"),  # noqa: F821
+                          MemoryBudget=budget_mib, **motion)
+errors = Errors(streamed)
+steps = list(reference.TimestepValues)
+same = True
+for i in (15, 2, 9, 0, 15, 14):
+    reference.UpdatePipeline(steps[i])
+    streamed.UpdatePipeline(steps[i])
+    same = same and np.array_equal(points(fetch(reference)), points(fetch(streamed)))
+check(same and not errors.messages,
+      f"a run streamed to its state file with a {budget_mib * 1024:.0f} KiB budget gives every "
+      f"frame exactly, early times read back from the file ({errors.messages[:1]})")
+check(fetch(streamed, 1).GetNumberOfRows() == 16,
+      "the streamed run's energy table still has a row per frame")
+no_file = HairSimulation(MemoryBudget=budget_mib, **motion)  # noqa: F821
+errors = Errors(no_file)
+no_file.UpdatePipeline(0.0)
+check(any("State File Name" in m and "Memory Budget" in m for m in errors.messages),
+      f"without a state file the same run is refused and told about State File Name "
+      f"({errors.messages[:1]})")
+
 # Contact parameters: a bad one is refused with its name; a good run with contacts keeps the
 # Super-Helix strands out of the head table (contact_depth, the depth into the table).
 bad_contact = HairSimulation(Input=strands, Colliders=[head], Duration=0.1,  # noqa: F821
