@@ -73,7 +73,8 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
      << indent << "Hair-hair contacts: " << (this->HairHairContacts ? "on" : "off") << " thickness "
      << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
-     << this->HairContactDamping << " friction " << this->HairContactFriction << "\n"
+     << this->HairContactDamping << " friction " << this->HairContactFriction << " per length "
+     << (this->HairContactPerLength ? "on" : "off") << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n";
 }
 
@@ -278,6 +279,7 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     o.hairHair.stiffness = this->HairContactStiffness;
     o.hairHair.damping = this->HairContactDamping;
     o.hairHair.friction = this->HairContactFriction;
+    o.hairHair.perLength = this->HairContactPerLength;
     o.contacts.slipVelocity = this->SlipVelocity;
     if (hair::Status s = in.Sim.initialize(guides, parts, o); !s)
     {

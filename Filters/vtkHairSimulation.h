@@ -96,6 +96,9 @@ public:
   vtkGetMacro(HairContactDamping, double);
   vtkSetMacro(HairContactFriction, double);
   vtkGetMacro(HairContactFriction, double);
+  /// Hair–hair penalty per length of contact (HairHairParameters::perLength, ℓ_ref = 1 cm).
+  vtkSetMacro(HairContactPerLength, bool);
+  vtkGetMacro(HairContactPerLength, bool);
   vtkSetMacro(SlipVelocity, double);
   vtkGetMacro(SlipVelocity, double);
   /// Where every frame is written (HDF5, docs/state-file.md); empty: not written.
@@ -143,7 +146,8 @@ protected:
   double HairContactStiffness = 0.1;    ///< N/m per contact
   double HairContactDamping = 2e-4;     ///< N·s/m
   double HairContactFriction = 1e-5;    ///< N·s/m, viscous
-  double SlipVelocity = 1e-3;           ///< m/s
+  bool HairContactPerLength = false;
+  double SlipVelocity = 1e-3; ///< m/s
   std::string StateFileName;
   double MemoryBudget = 0; ///< MiB, 0: half of the machine's memory
 

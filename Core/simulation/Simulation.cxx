@@ -738,6 +738,8 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
       at["hair_hair_stiffness"] = h.stiffness;
       at["hair_hair_damping"] = h.damping;
       at["hair_hair_friction"] = h.friction;
+      at["hair_hair_per_length"] = h.perLength ? 1 : 0;
+      at["hair_hair_reference_length"] = h.referenceLength;
       at["hair_hair_max_updates"] = options.hairHairMaxUpdates;
     }
   }

@@ -65,11 +65,52 @@ Status HairHairParameters::validate() const
   if (threads < 1 || threads > 256)
     return Status::Error("HairHairParameters: threads = " + std::to_string(threads) +
                          " is invalid; give 1 to 256 threads for the narrow phase (default 1).");
+  if (!std::isfinite(referenceLength) || referenceLength <= 0)
+    return Status::Error("HairHairParameters: referenceLength = " + number(referenceLength) +
+                         " m is invalid; give the length of contact that gets the per-point "
+                         "force, finite and > 0 (default 0.01 m).");
   if (margin > 1)
     return Status::Error("HairHairParameters: margin = " + number(margin) +
                          " m is more than 1 m; it is a distance of the order of the thickness "
                          "(default 2.5e-3 m). Check the units.");
   return Status::Ok();
+}
+
+double lengthInCylinder(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1, double R)
+{
+  const Eigen::Vector3d axis = q1 - q0, d = p1 - p0;
+  const double lengthB = axis.norm();
+  if (!(lengthB > 0))
+    return 0;
+  const Eigen::Vector3d e = axis / lengthB;
+  // Along the axis: t(u) = t0 + u t1 must lie in [0, |B|]; across it: w(u) = w0 + u w1 with
+  // |w(u)|² < R², a quadratic in u. Both are intervals of u; their overlap with [0, 1].
+  const Eigen::Vector3d r0 = p0 - q0;
+  const double t0 = r0.dot(e), t1 = d.dot(e);
+  double lo = 0, hi = 1;
+  if (std::abs(t1) > 1e-15 * (std::abs(t0) + lengthB))
+  {
+    const double a = -t0 / t1, b = (lengthB - t0) / t1;
+    lo = std::max(lo, std::min(a, b));
+    hi = std::min(hi, std::max(a, b));
+  }
+  else if (t0 < 0 || t0 > lengthB)
+    return 0;
+  const Eigen::Vector3d w0 = r0 - t0 * e, w1 = d - t1 * e;
+  const double qa = w1.squaredNorm(), qb = 2 * w0.dot(w1), qc = w0.squaredNorm() - R * R;
+  if (qa > 1e-30 * (qc > 0 ? qc : R * R))
+  {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (!(disc > 0))
+      return 0;
+    const double root = std::sqrt(disc);
+    lo = std::max(lo, (-qb - root) / (2 * qa));
+    hi = std::min(hi, (-qb + root) / (2 * qa));
+  }
+  else if (!(qc < 0))
+    return 0; // parallel to the axis, at or beyond R
+  return hi > lo ? (hi - lo) * d.norm() : 0;
 }
 
 double closestPointsOfSegments(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
@@ -444,7 +485,15 @@ void HairHairContacts::narrowPhase()
         continue;
       }
       const Eigen::Vector3d xb = b0.position + v * (b1.position - b0.position);
-      const double w = share(sa, pa.index, u, xb) * share(sb, pb.index, v, xa);
+      // Per point: the vertex shares. Per length: the length in contact, which already
+      // counts a piece's own part only (no vertex is counted twice).
+      const double w =
+          Params.perLength
+              ? 0.5 *
+                    (lengthInCylinder(a0.position, a1.position, b0.position, b1.position, R) +
+                     lengthInCylinder(b0.position, b1.position, a0.position, a1.position, R)) /
+                    Params.referenceLength
+              : share(sa, pa.index, u, xb) * share(sb, pb.index, v, xa);
       if (w == 0)
         continue;
       const Eigen::Vector3d va = a0.velocity + u * (a1.velocity - a0.velocity);

@@ -42,6 +42,16 @@ struct HairHairParameters
   /// overlaps, dense clumps); 2e-5 N is the weight of 20 cm of a smooth hair, 20 × the
   /// largest contact force of a settled pair.
   double maxForce = 1e-4;
+  /// Per-length penalty: each contact's force, stiffness, damping and energy scaled by
+  /// ℓ_c / referenceLength, where ℓ_c is the length of strand in contact for that pair of
+  /// pieces (the mean of each piece's length inside the other's contact cylinder, clipped
+  /// to the other piece's extent), instead of one contact per pair of pieces (with shared
+  /// vertices halved). Then a contact along two strands pushes per unit length whatever
+  /// their sample spacing, which follows the curl (docs/hair-hair-contacts.md). Off by
+  /// default: the defaults and the clump study were calibrated per contact point.
+  bool perLength = false;
+  /// ℓ_ref of perLength [m]: the length of contact that gets the per-point force.
+  double referenceLength = 0.01;
   /// Temporal coherence: keep the candidate pairs found with this extra distance [m] and
   /// reuse them, without rebuilding the grid, while no sample has moved more than half of
   /// it since they were found. 0 disables it (grid rebuilt every update).
@@ -174,6 +184,11 @@ private:
   std::vector<HairHairContact> Contacts;
   HairHairStats Stats;
 };
+
+/// Length of the part of segment [p0, p1] that lies within distance R of the line through
+/// q0, q1 and projects onto that line between q0 and q1 (0 for a degenerate [q0, q1]).
+double lengthInCylinder(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                        const Eigen::Vector3d& q0, const Eigen::Vector3d& q1, double R);
 
 /// Closest points of segments [p0, p1] and [q0, q1]: parameters u, v in [0, 1] such that
 /// p0 + u (p1 − p0) and q0 + v (q1 − q0) are closest; returns the squared distance.

@@ -96,6 +96,8 @@ TEST(HairHairContacts, BadParametersAreRefusedWithTheirName)
       {"threads", [](HairHairParameters& p) { p.threads = 0; }},
       {"allowedDepth", [](HairHairParameters& p) { p.allowedDepth = 1; }},
       {"maxForce", [](HairHairParameters& p) { p.maxForce = INFINITY; }},
+      {"referenceLength", [](HairHairParameters& p) { p.referenceLength = 0; }},
+      {"referenceLength", [](HairHairParameters& p) { p.referenceLength = std::nan(""); }},
   };
   for (const Case& c : cases)
   {
@@ -182,6 +184,71 @@ TEST(HairHairContacts, CrossingPairGetsThePenaltyDampingAndFrictionOfTheEquation
   EXPECT_LT((s[0][1].weight * r[1].force - 0.7 * expected).norm(), 1e-15);
   EXPECT_LT((s[0][2].weight * r[2].force - 0.3 * expected).norm(), 1e-15);
   EXPECT_TRUE(r[0].force.isZero(0) && r[3].force.isZero(0));
+}
+
+TEST(HairHairContacts, LengthInCylinderIsTheChordOfTheGeometry)
+{
+  // Exact geometry (round-off bound 1e-15 m on centimetre segments): a segment crossing the
+  // axis at right angles d = 3 mm from it cuts a chord 2 √(R² − d²) = 8 mm of the R = 5 mm
+  // cylinder; at 30° to it the chord is 2 √(R² − d²) / sin 30° = 16 mm; a parallel segment
+  // inside the cylinder counts only its part over the axis' extent; one outside counts 0.
+  const double R = 5e-3, d = 3e-3;
+  const Eigen::Vector3d q0(0, 0, -0.05), q1(0, 0, 0.05); // the axis: z from −5 to 5 cm
+  EXPECT_NEAR(lengthInCylinder({-0.02, d, 0}, {0.02, d, 0}, q0, q1, R), 8e-3, 1e-15);
+  const double c = std::cos(M_PI / 6), sn = std::sin(M_PI / 6);
+  EXPECT_NEAR(lengthInCylinder({-0.04 * sn, d, -0.04 * c}, {0.04 * sn, d, 0.04 * c}, q0, q1, R),
+              16e-3, 1e-15);
+  EXPECT_NEAR(lengthInCylinder({0, d, 0.02}, {0, d, 0.09}, q0, q1, R), 0.03, 1e-15);
+  EXPECT_NEAR(lengthInCylinder({0, d, 0.09}, {0, d, 0.02}, q0, q1, R), 0.03, 1e-15);
+  EXPECT_EQ(lengthInCylinder({0, 6e-3, -0.02}, {0, 6e-3, 0.02}, q0, q1, R), 0);
+  EXPECT_EQ(lengthInCylinder({0, d, 0.06}, {0, d, 0.08}, q0, q1, R), 0);  // beyond the extent
+  EXPECT_EQ(lengthInCylinder({-0.02, d, 0}, {0.02, d, 0}, q0, q0, R), 0); // degenerate axis
+}
+
+TEST(HairHairContacts, PerLengthPenaltyDoesNotDependOnTheSampleSpacing)
+{
+  // Two straight parallel strands 4.5 mm apart (contact distance 5 mm, δ = 0.5 mm, below
+  // the cap), 10 cm side by side, sampled every 1 cm or every 2.5 mm (a straight and a
+  // curly element's spacing). With the per-length penalty the total normal force must be
+  // k δ L / ℓ_ref whatever the spacing: the lengths in contact of the pairs of pieces add up
+  // to L on each strand (round-off bound 1e-12 relative). Per contact point it grows with
+  // the number of pairs: the finer spacing must push at least twice as hard (the defect the
+  // option removes, docs/hair-hair-contacts.md).
+  auto totalForce = [](bool perLength, double hA, double hB)
+  {
+    HairHairParameters p;
+    p.perLength = perLength;
+    std::vector<std::vector<StrandSample>> s(2);
+    auto sample = [](double x, double y, double h)
+    {
+      StrandSample q;
+      q.s = x;
+      q.weight = h;
+      q.position = Eigen::Vector3d(x, y, 0);
+      q.velocity.setZero();
+      return q;
+    };
+    for (int k = 0; k * hA <= 0.1 + 1e-12; ++k)
+      s[0].push_back(sample(k * hA, 4.5e-3, hA));
+    for (int k = 0; k * hB <= 0.1 + 1e-12; ++k)
+      s[1].push_back(sample(k * hB, 0, hB));
+    HairHairContacts h;
+    EXPECT_TRUE(h.setParameters(p).ok());
+    EXPECT_TRUE(h.update(s).ok());
+    std::vector<ContactResponse> r(s[0].size());
+    h.addResponses(0, s[0], r);
+    double F = 0;
+    for (size_t k = 0; k < r.size(); ++k)
+      F += s[0][k].weight * r[k].force.y();
+    return F;
+  };
+  const double k = HairHairParameters().stiffness, delta = 0.5e-3, L = 0.1, ref = 0.01;
+  const double expected = k * delta * L / ref;
+  for (const auto& [hA, hB] : {std::pair{0.01, 0.01}, {2.5e-3, 2.5e-3}, {0.01, 2.5e-3}})
+  {
+    EXPECT_NEAR(totalForce(true, hA, hB), expected, 1e-12 * expected) << hA << " " << hB;
+  }
+  EXPECT_GT(totalForce(false, 2.5e-3, 2.5e-3), 2 * totalForce(false, 0.01, 0.01));
 }
 
 TEST(HairHairContacts, GridFindsTheSamePairsAsBruteForce)
@@ -318,7 +385,7 @@ struct PairEnergy
 };
 
 Status pushTogether(bool withContacts, double& closest, double& depthAtRest, double thickness,
-                    PairEnergy* energy = nullptr)
+                    PairEnergy* energy = nullptr, bool perLength = false)
 {
   // Air drag 20 times the smooth preset's, so that the drooping strands settle within 2 s.
   HairParameters hair = HairParameters::roundStraight();
@@ -371,6 +438,7 @@ Status pushTogether(bool withContacts, double& closest, double& depthAtRest, dou
   HairHairContacts contacts;
   HairHairParameters p;
   p.thickness = thickness;
+  p.perLength = perLength;
   Status st = contacts.setParameters(p);
   if (!st)
     return st;
@@ -463,6 +531,26 @@ TEST(HairHairContacts, StrandsPushedTogetherDoNotPassThrough)
   std::printf("closest approach: %.3g mm with contacts, %.3g mm without (2 × thickness = %.3g "
               "mm)\n",
               1e3 * closest, 1e3 * closestFree, 2e3 * thickness);
+}
+
+TEST(HairHairContacts, StrandsPushedTogetherDoNotPassThroughWithThePerLengthPenalty)
+{
+  // The same pair with the per-length penalty (ℓ_ref = 1 cm, these straight strands' samples
+  // are 7–12 mm apart, so about the per-point force): the same bounds, the same third law
+  // and the same energy inequality (the penalty energy is ½ k δ² ℓ_c / ℓ_ref per contact).
+  const double thickness = 2.5e-3;
+  double closest = 0, depth = 0;
+  PairEnergy e;
+  const Status st = pushTogether(true, closest, depth, thickness, &e, true);
+  ASSERT_TRUE(st.ok()) << st.message();
+  EXPECT_GT(closest, 0.7 * 2 * thickness);
+  EXPECT_LT(depth, 0.1 * 2 * thickness);
+  EXPECT_GT(e.pairForce, 0) << "the strands must be in contact at the end";
+  EXPECT_LT(e.netForce, 1e-12 * e.pairForce);
+  EXPECT_LE(e.contactWork, -e.penalty + e.arrival);
+  std::printf("per length: closest approach %.3g mm, depth at rest %.3g mm; contact work %.3g J, "
+              "penalty %.3g J, arrival %.3g J\n",
+              1e3 * closest, 1e3 * depth, e.contactWork, e.penalty, e.arrival);
 }
 
 namespace

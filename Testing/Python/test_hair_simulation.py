@@ -167,8 +167,20 @@ hh.UpdatePipeline(0.5)
 check(not errors.messages, f"a run with hair–hair contacts goes through ({errors.messages[:1]})")
 with h5py.File(hh_state, "r", swmr=True) as f:
     attrs = dict(f.attrs)
-check(attrs.get("hair_hair_contacts") == 1 and abs(attrs.get("hair_hair_thickness", 0) - 0.003) < 1e-15,
+check(attrs.get("hair_hair_contacts") == 1 and abs(attrs.get("hair_hair_thickness", 0) - 0.003) < 1e-15
+      and attrs.get("hair_hair_per_length") == 0,
       f"the state file records the hair–hair parameters ({ {k: v for k, v in attrs.items() if 'hair_hair' in k} })")
+# The per-length penalty from the GUI's property, recorded too.
+hh_state = os.path.join(tmp, "hair_hair_per_length.h5")
+hh = HairSimulation(Input=strands, Colliders=[head], Duration=0.5, HairHairContacts=1,  # noqa: F821
+                    HairContactThickness=0.003, HairContactPerLength=1, StateFileName=hh_state)
+errors = Errors(hh)
+hh.UpdatePipeline(0.5)
+with h5py.File(hh_state, "r", swmr=True) as f:
+    attrs = dict(f.attrs)
+check(not errors.messages and attrs.get("hair_hair_per_length") == 1
+      and attrs.get("hair_hair_reference_length") == 0.01,
+      f"a run with the per-length hair–hair penalty goes through and is recorded ({errors.messages[:1]})")
 
 # A run killed with SIGKILL mid-way leaves a readable file.
 killed = os.path.join(tmp, "killed.h5")
