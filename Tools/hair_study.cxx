@@ -624,7 +624,7 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
 
 int clump(const Arguments& args)
 {
-  int quick = 0, withContacts = 1;
+  int quick = 0, withContacts = 1, perLength = 0;
   ClumpConfig c;
   std::vector<double> gammas;
   std::ofstream out;
@@ -648,6 +648,8 @@ int clump(const Arguments& args)
   if (s)
     s = args.integer("contacts", 1, 0, 1, withContacts);
   if (s)
+    s = args.integer("perlength", 0, 0, 1, perLength);
+  if (s)
     s = args.number("amplitude", 0.01, 0, 1, c.scene.amplitude);
   if (s)
     s = args.number("frequency", 3, 0, 100, c.scene.frequency);
@@ -662,6 +664,7 @@ int clump(const Arguments& args)
   c.scene.discRadius = 0.012 * std::sqrt(c.scene.count / 50.0);
   c.scene.startOscillation = c.scene.rampTime;
   c.contacts = withContacts == 1;
+  c.contact.perLength = perLength == 1; // the per-length penalty (docs/hair-hair-contacts.md)
   // Moving hair: coherence only adds candidates (docs/hair-hair-contacts.md), so it is off.
   c.contact.margin = 0;
   out << "gamma,time_s,root_y_m,span_m,mean_radius_m,contacts,max_penetration_m\n";
@@ -686,7 +689,7 @@ int usage()
                "              (out=<file>.h5)\n"
                "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
                "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
-               "              [contacts=1] [amplitude=0.01] [frequency=3]\n";
+               "              [contacts=1] [perlength=0] [amplitude=0.01] [frequency=3]\n";
   return 2;
 }
 
@@ -704,7 +707,7 @@ int main(int argc, char** argv)
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
        {"clump",
         {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
-          "contacts", "amplitude", "frequency"},
+          "contacts", "perlength", "amplitude", "frequency"},
          clump}}};
   const auto it = studies.find(study);
   if (it == studies.end())
