@@ -93,8 +93,13 @@ double uniformSigned(std::mt19937& g)
 // each row's three values also go to the transposed place, mirror[r ldd + c]. The three
 // columns in one pass, vectorized over r: the off-diagonal blocks of M, K_T and C as one
 // product over a long stack of rows (3 × 3 products block by block vectorize poorly, and
-// Eigen's lazy product on these dynamic blocks was measured slower than those).
+// Eigen's lazy product on these dynamic blocks was measured slower than those). Compiled
+// twice like luSolveInPlace (same operations, same results bit for bit; with lowerAndPropagate
+// −11 k instructions per step at N = 10 for every preset, docs/benchmarks-superhelix.md).
 template <int K, bool Mirror>
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::Index ldd,
                     const double* __restrict src, Eigen::Index lds, const double* __restrict z,
                     int rows)
@@ -127,6 +132,9 @@ void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::In
 // stackedProduct's: one kernel taking the store as a lambda was measured at +1.2 %
 // instructions per step (the restrict-qualified stores no longer vectorized).
 template <int K>
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride, Eigen::Index colStride,
                        const double* __restrict src, Eigen::Index lds, const double* __restrict z,
                        int rows)
@@ -1026,6 +1034,43 @@ struct FunctionGram
     Eigen::Map<M3>(out.R) = F0 * R;
   }
 };
+// One pass over the rows of Γ_{qe+1} (columns [a l w] with leading dimension ldg, rows
+// r < rows): C's column block qe below the diagonal, dst(r, :) = Γ(r, :) S (leading dimension
+// ldc), then Γ_{qe+1} Prop_qe in place,
+//   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
+// O(N²) in all, ~100 instructions per row with 2-wide vectors; compiled twice like
+// luSolveInPlace (the same operations in the same order, so the same results bit for bit).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void
+lowerAndPropagate(double* __restrict dst, Eigen::Index ldc, double* __restrict g, Eigen::Index ldg,
+                  const double* __restrict S, const double* __restrict phi,
+                  const double* __restrict akd, const double* __restrict fg, int rows)
+{
+  const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC ivdep // each pass reads and writes row r of Γ only
+#endif
+  for (int r = 0; r < rows; ++r)
+  {
+    const double a0 = g[r], a1 = g[ldg + r], a2 = g[2 * ldg + r];
+    const double l0 = g[3 * ldg + r], l1 = g[4 * ldg + r], l2 = g[5 * ldg + r];
+    const double w0 = g[6 * ldg + r], w1 = g[7 * ldg + r], w2 = g[8 * ldg + r];
+    for (int c = 0; c < 3; ++c)
+    {
+      const double* const s = S + 9 * c;
+      dst[c * ldc + r] = a0 * s[0] + a1 * s[1] + a2 * s[2] + l0 * s[3] + l1 * s[4] + l2 * s[5] +
+                         w0 * s[6] + w1 * s[7] + w2 * s[8];
+    }
+    g[6 * ldg + r] = w0 + (a0 * phi[0] + a1 * phi[1] + a2 * phi[2]) - (l1 * v2 - l2 * v1);
+    g[7 * ldg + r] = w1 + (a0 * phi[3] + a1 * phi[4] + a2 * phi[5]) - (l2 * v0 - l0 * v2);
+    g[8 * ldg + r] = w2 + (a0 * phi[6] + a1 * phi[7] + a2 * phi[8]) - (l0 * v1 - l1 * v0);
+    g[3 * ldg + r] = l0 - (a1 * f2 - a2 * f1);
+    g[4 * ldg + r] = l1 - (a2 * f0 - a0 * f2);
+    g[5 * ldg + r] = l2 - (a0 * f1 - a1 * f0);
+  }
+}
 } // namespace
 
 void SuperHelix::assembleVelocityJacobian()
@@ -1168,37 +1213,6 @@ void SuperHelix::assembleVelocityJacobian()
     B.block<3, 3>(3 * p, 3) = k.elements[p].W.transpose();
   }
   const Eigen::Index ldc = C.rows(), ldg = Gam.rows();
-  // One pass over the rows of Γ_{qe+1} (columns [a l w], rows r < rows): C's column block qe
-  // below the diagonal, dst(r, :) = Γ(r, :) S, then Γ_{qe+1} Prop_qe in place,
-  //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
-  auto lowerAndPropagate = [ldc, ldg](double* __restrict dst, double* __restrict g,
-                                      const double* __restrict S, const double* __restrict phi,
-                                      const Eigen::Vector3d& akd, const Eigen::Vector3d& fg,
-                                      int rows)
-  {
-    const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC ivdep // each pass reads and writes row r of Γ only
-#endif
-    for (int r = 0; r < rows; ++r)
-    {
-      const double a0 = g[r], a1 = g[ldg + r], a2 = g[2 * ldg + r];
-      const double l0 = g[3 * ldg + r], l1 = g[4 * ldg + r], l2 = g[5 * ldg + r];
-      const double w0 = g[6 * ldg + r], w1 = g[7 * ldg + r], w2 = g[8 * ldg + r];
-      for (int c = 0; c < 3; ++c)
-      {
-        const double* const s = S + 9 * c;
-        dst[c * ldc + r] = a0 * s[0] + a1 * s[1] + a2 * s[2] + l0 * s[3] + l1 * s[4] + l2 * s[5] +
-                           w0 * s[6] + w1 * s[7] + w2 * s[8];
-      }
-      g[6 * ldg + r] = w0 + (a0 * phi[0] + a1 * phi[1] + a2 * phi[2]) - (l1 * v2 - l2 * v1);
-      g[7 * ldg + r] = w1 + (a0 * phi[3] + a1 * phi[4] + a2 * phi[5]) - (l2 * v0 - l0 * v2);
-      g[8 * ldg + r] = w2 + (a0 * phi[6] + a1 * phi[7] + a2 * phi[8]) - (l0 * v1 - l1 * v0);
-      g[3 * ldg + r] = l0 - (a1 * f2 - a2 * f1);
-      g[4 * ldg + r] = l1 - (a2 * f0 - a0 * f2);
-      g[5 * ldg + r] = l2 - (a0 * f1 - a1 * f0);
-    }
-  };
   Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
   Map39 lf = lm; // Λ_{qe+1}: tail torque rows lm, tail force rows lf
   for (int qe = n - 1; qe >= 0; --qe)
@@ -1225,8 +1239,8 @@ void SuperHelix::assembleVelocityJacobian()
     double* const col = C.data() + 3 * qe * ldc;
     stackedProduct<6, false>(col, nullptr, ldc, B.data(), B.rows(), T.data(), 3 * qe);
     // Rows p > qe: Γ_{qe+1} S; then Γ_{qe+1} Prop_qe (the rows of Γ_qe past qe).
-    lowerAndPropagate(col + 3 * qe + 3, Gam.data() + 3 * qe + 3, S.data(), mq.PhiEnd.data(), mq.akd,
-                      mq.fgEnd, 3 * (n - qe - 1));
+    lowerAndPropagate(col + 3 * qe + 3, ldc, Gam.data() + 3 * qe + 3, ldg, S.data(),
+                      mq.PhiEnd.data(), mq.akd.data(), mq.fgEnd.data(), 3 * (n - qe - 1));
     // Λ_{qe+1} Prop_qe, block columns (δa, δα, δω): w += a Φ_end − l [A k̇]×, l −= a [Fg_end]×
     // (w first: it uses the old l); X [v]× = −([v]× Xᵀ)ᵀ by column cross products.
     auto prop = [&mq](Map39& x)
