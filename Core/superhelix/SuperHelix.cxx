@@ -19,6 +19,19 @@ thread_local std::vector<int> SuperHelix::Pivots;
 thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
 thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
 
+// Functions marked HAIR_AVX2_CLONES are compiled twice, for AVX2 and for the baseline x86-64,
+// and picked at load time by the CPU (GCC function multi-versioning): the same operations in
+// the same order (no FMA contraction in ISO C++ mode), so the same results bit for bit, with
+// 4-wide instead of 2-wide vectors where the CPU has them. Used on loops over long arrays
+// (the LU, the stacked products, C's row pass, the finite check, C's per-sample sums: −17 k
+// instructions per step at N = 10 for smooth hair, C at N = 40 −16 %); whole assembly
+// functions compiled so ran no faster (measured, docs/benchmarks-superhelix.md).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define HAIR_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define HAIR_AVX2_CLONES
+#endif
+
 namespace
 {
 // The tension an explicit step carries, T_ex = ρS ℓ² / (64 h²): a string of tension T with
@@ -37,6 +50,7 @@ constexpr int UnblockedLuMax = 120;
 
 // x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
 // allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
+HAIR_AVX2_CLONES
 bool finite(const Eigen::MatrixXd& m)
 {
   const double* d = m.data();
@@ -93,16 +107,11 @@ double uniformSigned(std::mt19937& g)
 // each row's three values also go to the transposed place, mirror[r ldd + c]. The three
 // columns in one pass, vectorized over r: the off-diagonal blocks of M, K_T and C as one
 // product over a long stack of rows (3 × 3 products block by block vectorize poorly, and
-// Eigen's lazy product on these dynamic blocks was measured slower than those). Compiled
-// twice like luSolveInPlace (same operations, same results bit for bit; with lowerAndPropagate
-// −11 k instructions per step at N = 10 for every preset, docs/benchmarks-superhelix.md).
+// Eigen's lazy product on these dynamic blocks was measured slower than those).
 template <int K, bool Mirror>
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::Index ldd,
-                    const double* __restrict src, Eigen::Index lds, const double* __restrict z,
-                    int rows)
+HAIR_AVX2_CLONES void stackedProduct(double* __restrict dst, double* __restrict mirror,
+                                     Eigen::Index ldd, const double* __restrict src,
+                                     Eigen::Index lds, const double* __restrict z, int rows)
 {
   for (int r = 0; r < rows; ++r)
   {
@@ -132,12 +141,9 @@ void stackedProduct(double* __restrict dst, double* __restrict mirror, Eigen::In
 // stackedProduct's: one kernel taking the store as a lambda was measured at +1.2 %
 // instructions per step (the restrict-qualified stores no longer vectorized).
 template <int K>
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride, Eigen::Index colStride,
-                       const double* __restrict src, Eigen::Index lds, const double* __restrict z,
-                       int rows)
+HAIR_AVX2_CLONES void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride,
+                                        Eigen::Index colStride, const double* __restrict src,
+                                        Eigen::Index lds, const double* __restrict z, int rows)
 {
   for (int r = 0; r < rows; ++r)
   {
@@ -158,15 +164,9 @@ void stackedProductAdd(double* __restrict dst, Eigen::Index rowStride, Eigen::In
 
 // Solves a x = b in place for the column-major m × m matrix a (overwritten by its LU
 // factors, row interchanges in piv) and b (overwritten by x); returns the smallest pivot
-// magnitude (0 or NaN: singular, x not computed). Compiled twice, for AVX2 and for the
-// baseline x86-64, and picked at load time by the CPU (GCC function multi-versioning):
-// the same operations in the same order (no FMA contraction in ISO C++ mode), so the
-// same results bit for bit, with 4-wide instead of 2-wide vectors where the CPU has them.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-double
-luSolveInPlace(double* a, double* x, int m, int* piv)
+// magnitude (0 or NaN: singular, x not computed).
+HAIR_AVX2_CLONES
+double luSolveInPlace(double* a, double* x, int m, int* piv)
 {
   double pivot = std::numeric_limits<double>::infinity();
   for (int c = 0; c < m; ++c)
@@ -884,6 +884,7 @@ struct SampleMoments
   double sc = 0, sF[3] = {}, PJ[9] = {}, N[27] = {}, X[9] = {}, S2[9] = {}, Qm[9] = {}, SD[9] = {},
          R[9] = {};
 
+  HAIR_AVX2_CLONES
   void add(double w, const double* __restrict J, const Eigen::Vector3d& fgv,
            const double* __restrict F0, const double* __restrict D)
   {
@@ -1034,19 +1035,16 @@ struct FunctionGram
     Eigen::Map<M3>(out.R) = F0 * R;
   }
 };
+
 // One pass over the rows of Γ_{qe+1} (columns [a l w] with leading dimension ldg, rows
 // r < rows): C's column block qe below the diagonal, dst(r, :) = Γ(r, :) S (leading dimension
 // ldc), then Γ_{qe+1} Prop_qe in place,
 //   w += a Φ_end − l [A k̇]×,  l −= a [Fg_end]×   (row vectors: x [v]× = x × v).
-// O(N²) in all, ~100 instructions per row with 2-wide vectors; compiled twice like
-// luSolveInPlace (the same operations in the same order, so the same results bit for bit).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void
-lowerAndPropagate(double* __restrict dst, Eigen::Index ldc, double* __restrict g, Eigen::Index ldg,
-                  const double* __restrict S, const double* __restrict phi,
-                  const double* __restrict akd, const double* __restrict fg, int rows)
+// O(N²) in all (~100 instructions per row with 2-wide vectors).
+HAIR_AVX2_CLONES
+void lowerAndPropagate(double* __restrict dst, Eigen::Index ldc, double* __restrict g,
+                       Eigen::Index ldg, const double* __restrict S, const double* __restrict phi,
+                       const double* __restrict akd, const double* __restrict fg, int rows)
 {
   const double v0 = akd[0], v1 = akd[1], v2 = akd[2], f0 = fg[0], f1 = fg[1], f2 = fg[2];
 #if defined(__GNUC__) && !defined(__clang__)
