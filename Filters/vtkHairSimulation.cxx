@@ -368,7 +368,7 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
         vtkErrorMacro(<< "Hair Simulation: the state file " << this->StateFileName
                       << " can no longer be written, and this run does not fit in memory "
                          "without it; stopped at t = "
-                      << in.Sim.frame(f).time << " s (the frames up to it are in the file).");
+                      << in.Sim.frame(f).time << " s (the frames before it are in the file).");
         return 0;
       }
       in.Sim.releaseFrameData(f - in.Window);
