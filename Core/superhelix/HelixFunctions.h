@@ -60,6 +60,22 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u
                    Eigen::Matrix3d& d2gW, Eigen::Matrix3d* dGkW,
                    const HelixCoefficients* coefficients = nullptr);
 
+/// The element functions at u that helixPoint and helixBilinear are linear in, from the
+/// coefficients c of Ω u: f = (u, u²φ1, u³φ2, u⁴ψ1, u⁵ψ2, u⁶χ1, u⁷χ2) (a, b, da, db of the
+/// kernels below are f[1] … f[4]).
+[[gnu::always_inline]] inline void helixFunctionValues(double u, const HelixCoefficients& c,
+                                                       double (&f)[7])
+{
+  const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
+  f[0] = u;
+  f[1] = u2 * c.phi1;
+  f[2] = u3 * c.phi2;
+  f[3] = u4 * c.psi1;
+  f[4] = u5 * c.psi2;
+  f[5] = u6 * c.chi1;
+  f[6] = u7 * c.chi2;
+}
+
 /// The parts of helixPoint that are linear in the element functions' values at u (with
 /// x = Ω u: a = u²φ1(x), b = u³φ2(x), da = u⁴ψ1(x), db = u⁵ψ2(x)), in the element's start frame:
 ///   g = u e0 + a k×e0 + b k×(k×e0),

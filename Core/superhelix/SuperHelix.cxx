@@ -956,9 +956,8 @@ struct FunctionGram
 
   void add(double w, double u, const HelixCoefficients& c)
   {
-    const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
-    const double f[7] = {u,           u2 * c.phi1, u3 * c.phi2, u4 * c.psi1,
-                         u5 * c.psi2, u6 * c.chi1, u7 * c.chi2};
+    double f[7];
+    helixFunctionValues(u, c, f);
     sw += w;
     for (int i = 0; i < 7; ++i)
     {
