@@ -1,5 +1,6 @@
 #include "superhelix/SuperHelix.h"
 
+#include "superhelix/DenseLu.h"
 #include "superhelix/HelixFunctions.h"
 
 #include <algorithm>
@@ -19,18 +20,7 @@ thread_local std::vector<int> SuperHelix::Pivots;
 thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
 thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
 
-// Functions marked HAIR_AVX2_CLONES are compiled twice, for AVX2 and for the baseline x86-64,
-// and picked at load time by the CPU (GCC function multi-versioning): the same operations in
-// the same order (no FMA contraction in ISO C++ mode), so the same results bit for bit, with
-// 4-wide instead of 2-wide vectors where the CPU has them. Used on loops over long arrays
-// (the LU, the stacked products, C's row pass, the finite check, C's per-sample sums: −17 k
-// instructions per step at N = 10 for smooth hair, C at N = 40 −16 %); whole assembly
-// functions compiled so ran no faster (measured, docs/benchmarks-superhelix.md).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define HAIR_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define HAIR_AVX2_CLONES
-#endif
+#include "common/Multiversioning.h"
 
 namespace
 {
@@ -42,11 +32,11 @@ namespace
 // 600 s) with an energy gain below 6e-5 J; with no explicit share (K_T from T = 0 up) the
 // falling-strand residual at dt = 1/8000 s is 4.5 × the explicit step's (docs/super-helix.md).
 constexpr double ExplicitTensionDivisor = 64;
-// Up to this size (3N) the step's matrix is factorized by the unblocked LU in solve().
-// Measured against Eigen's blocked PartialPivLU (wavy strand, solve phase, alternating
-// runs): faster at 3N = 30; with its AVX2 version also at 3N = 60 (15–19 µs against
-// 25–32) and 3N = 120 (100 µs against 115–169). Larger systems use Eigen's.
-constexpr int UnblockedLuMax = 120;
+// Up to this size (3N) the step's matrix is factorized by luSolveInPlace (DenseLu.h), larger
+// ones by Eigen's blocked PartialPivLU. Measured (whole steps of the wavy strand, alternated
+// processes, docs/benchmarks-superhelix.md, ninth revision): ours is faster up to 3N = 360
+// (N = 120: 1.9–3.1 ms a step against 4.0–4.2 ms); at 3N = 480 the two were within the noise.
+constexpr int UnblockedLuMax = 360;
 
 // x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
 // allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
@@ -63,28 +53,6 @@ bool finite(const Eigen::MatrixXd& m)
   for (; i < n; ++i)
     acc[0] += d[i] - d[i];
   return acc[0] + acc[1] + acc[2] + acc[3] == 0;
-}
-
-// y −= f x over n entries (distinct arrays; vectorizable).
-inline void subtractScaled(double* __restrict y, const double* __restrict x, double f, int n)
-{
-  for (int i = 0; i < n; ++i)
-    y[i] -= f * x[i];
-}
-
-// y_k −= f_k x over n entries for four distinct columns y_k.
-inline void subtractScaled4(double* __restrict y0, double* __restrict y1, double* __restrict y2,
-                            double* __restrict y3, const double* __restrict x, double f0, double f1,
-                            double f2, double f3, int n)
-{
-  for (int i = 0; i < n; ++i)
-  {
-    const double xi = x[i];
-    y0[i] -= f0 * xi;
-    y1[i] -= f1 * xi;
-    y2[i] -= f2 * xi;
-    y3[i] -= f3 * xi;
-  }
 }
 
 // [v]× m, column by column (cheaper than a 3 × 3 product with skew(v)).
@@ -162,68 +130,6 @@ HAIR_AVX2_CLONES void stackedProductAdd(double* __restrict dst, Eigen::Index row
   }
 }
 
-// Solves a x = b in place for the column-major m × m matrix a (overwritten by its LU
-// factors, row interchanges in piv) and b (overwritten by x); returns the smallest pivot
-// magnitude (0 or NaN: singular, x not computed).
-HAIR_AVX2_CLONES
-double luSolveInPlace(double* a, double* x, int m, int* piv)
-{
-  double pivot = std::numeric_limits<double>::infinity();
-  for (int c = 0; c < m; ++c)
-  {
-    double* col = a + static_cast<std::ptrdiff_t>(c) * m;
-    int p = c;
-    double best = std::abs(col[c]);
-    for (int i = c + 1; i < m; ++i)
-      if (std::abs(col[i]) > best)
-      {
-        best = std::abs(col[i]);
-        p = i;
-      }
-    piv[c] = p;
-    if (!(best > 0))
-      return best; // singular (or NaN): refused by the caller
-    pivot = std::min(pivot, best);
-    if (p != c)
-      for (int j = 0; j < m; ++j)
-        std::swap(a[static_cast<std::ptrdiff_t>(j) * m + c],
-                  a[static_cast<std::ptrdiff_t>(j) * m + p]);
-    const double inv = 1.0 / col[c];
-    for (int i = c + 1; i < m; ++i)
-      col[i] *= inv;
-    // Trailing update, four columns per pass over the pivot column (the same operations
-    // y −= f x per entry; a pass per column spent most of its time in loop overhead).
-    int j = c + 1;
-    const int len = m - c - 1;
-    for (; j + 4 <= m; j += 4)
-    {
-      double* c0 = a + static_cast<std::ptrdiff_t>(j) * m;
-      double* c1 = c0 + m;
-      double* c2 = c1 + m;
-      double* c3 = c2 + m;
-      subtractScaled4(c0 + c + 1, c1 + c + 1, c2 + c + 1, c3 + c + 1, col + c + 1, c0[c], c1[c],
-                      c2[c], c3[c], len);
-    }
-    for (; j < m; ++j)
-    {
-      double* cj = a + static_cast<std::ptrdiff_t>(j) * m;
-      const double f = cj[c];
-      if (f != 0)
-        subtractScaled(cj + c + 1, col + c + 1, f, len);
-    }
-  }
-  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
-    std::swap(x[c], x[piv[c]]);
-  for (int c = 0; c < m; ++c)
-    subtractScaled(x + c + 1, a + static_cast<std::ptrdiff_t>(c) * m + c + 1, x[c], m - c - 1);
-  for (int c = m - 1; c >= 0; --c)
-  {
-    const double* col = a + static_cast<std::ptrdiff_t>(c) * m;
-    x[c] /= col[c];
-    subtractScaled(x, col, x[c], c);
-  }
-  return pivot;
-}
 } // namespace
 
 Status RootState::validate() const
@@ -1410,7 +1316,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
   {
-    // Large systems: Eigen's blocked LU (its cache blocking pays off past 3N = 120).
+    // Large systems: Eigen's blocked LU (its cache blocking pays off past 3N = 360).
     Lu.compute(Lhs);
     const double pivotL = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(pivotL > 1e-30 * scale))
@@ -1420,8 +1326,8 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
     return Status::Ok();
   }
   // Small systems: LU with partial pivoting (row interchanges, as LAPACK getrf / Eigen's
-  // PartialPivLU), unblocked and column-oriented: at 3N = 30 Eigen's blocked kernel spent
-  // most of its time in packing and dispatch.
+  // PartialPivLU) in panels of four columns, without packing: at 3N = 30 Eigen's blocked
+  // kernel spent most of its time in packing and dispatch.
   Pivots.resize(static_cast<size_t>(m));
   const double pivot = luSolveInPlace(Lhs.data(), Rhs.data(), m, Pivots.data());
   if (!(pivot > 1e-30 * scale))
