@@ -13,7 +13,7 @@ namespace hair
 
 namespace
 {
-// Columns per panel (trailingRows holds four).
+// Columns per panel; the U12 solve and trailingRows below are written out for four.
 constexpr int LuPanel = 4;
 
 // y −= f x over n entries (distinct arrays; vectorizable).
@@ -93,69 +93,52 @@ double luSolveInPlace(double* a, double* x, int m, int* piv)
       }
     }
     if (c1 == m)
-      break;
+      break; // the last panel, the only one that may be narrower than four, has no right
     // Rows [c0, c1) of the columns right of the panel, U12 = L11⁻¹ A12, then the trailing
     // matrix, rows and columns from c1: A22 −= L21 U12, the panel's updates in order.
-    const int len = m - c1;
-    if (c1 - c0 == LuPanel)
+    const double* const p0 = column(c0);
+    const double* const p1 = column(c0 + 1);
+    const double* const p2 = column(c0 + 2);
+    const double* const p3 = column(c0 + 3);
+    const double l10 = p0[c0 + 1], l20 = p0[c0 + 2], l30 = p0[c0 + 3];
+    const double l21 = p1[c0 + 2], l31 = p1[c0 + 3], l32 = p2[c0 + 3];
+    for (int j = c1; j < m; ++j)
     {
-      const double* const p0 = column(c0);
-      const double* const p1 = column(c0 + 1);
-      const double* const p2 = column(c0 + 2);
-      const double* const p3 = column(c0 + 3);
-      const double l10 = p0[c0 + 1], l20 = p0[c0 + 2], l30 = p0[c0 + 3];
-      const double l21 = p1[c0 + 2], l31 = p1[c0 + 3], l32 = p2[c0 + 3];
+      double* cj = column(j);
+      const double u0 = cj[c0];
+      double u1 = cj[c0 + 1], u2 = cj[c0 + 2], u3 = cj[c0 + 3];
+      u1 -= l10 * u0;
+      u2 -= l20 * u0;
+      u3 -= l30 * u0;
+      u2 -= l21 * u1;
+      u3 -= l31 * u1;
+      u3 -= l32 * u2;
+      cj[c0 + 1] = u1;
+      cj[c0 + 2] = u2;
+      cj[c0 + 3] = u3;
+    }
+    // Blocks of rows: L21's rows in registers, one pass over the trailing columns each
+    // (the columns are short at 3N = 30: a loop down each column spent most of its
+    // instructions on its set-up and remainder).
+    int i = c1;
+    for (; i + 8 <= m; i += 8)
+      trailingRows<2>(a, m, c0, c1, i);
+    for (; i + 4 <= m; i += 4)
+      trailingRows<1>(a, m, c0, c1, i);
+    for (; i < m; ++i)
+    {
+      const double a0 = p0[i], a1 = p1[i], a2 = p2[i], a3 = p3[i];
       for (int j = c1; j < m; ++j)
       {
         double* cj = column(j);
-        const double u0 = cj[c0];
-        double u1 = cj[c0 + 1], u2 = cj[c0 + 2], u3 = cj[c0 + 3];
-        u1 -= l10 * u0;
-        u2 -= l20 * u0;
-        u3 -= l30 * u0;
-        u2 -= l21 * u1;
-        u3 -= l31 * u1;
-        u3 -= l32 * u2;
-        cj[c0 + 1] = u1;
-        cj[c0 + 2] = u2;
-        cj[c0 + 3] = u3;
-      }
-      // Blocks of rows: L21's rows in registers, one pass over the trailing columns each
-      // (the columns are short at 3N = 30: a loop down each column spent most of its
-      // instructions on its set-up and remainder).
-      int i = c1;
-      for (; i + 8 <= m; i += 8)
-        trailingRows<2>(a, m, c0, c1, i);
-      for (; i + 4 <= m; i += 4)
-        trailingRows<1>(a, m, c0, c1, i);
-      for (; i < m; ++i)
-      {
-        const double a0 = p0[i], a1 = p1[i], a2 = p2[i], a3 = p3[i];
-        for (int j = c1; j < m; ++j)
-        {
-          double* cj = column(j);
-          double t = cj[i];
-          t -= a0 * cj[c0];
-          t -= a1 * cj[c0 + 1];
-          t -= a2 * cj[c0 + 2];
-          t -= a3 * cj[c0 + 3];
-          cj[i] = t;
-        }
+        double t = cj[i];
+        t -= a0 * cj[c0];
+        t -= a1 * cj[c0 + 1];
+        t -= a2 * cj[c0 + 2];
+        t -= a3 * cj[c0 + 3];
+        cj[i] = t;
       }
     }
-    else
-      for (int j = c1; j < m; ++j)
-      {
-        double* cj = column(j);
-        for (int c = c0; c < c1; ++c)
-        {
-          const double* lc = column(c);
-          for (int i = c + 1; i < c1; ++i)
-            cj[i] -= lc[i] * cj[c];
-        }
-        for (int c = c0; c < c1; ++c)
-          subtractScaled(cj + c1, column(c) + c1, cj[c], len);
-      }
   }
   for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
     std::swap(x[c], x[piv[c]]);
