@@ -650,6 +650,8 @@ int clump(const Arguments& args)
   if (s)
     s = args.integer("perlength", 0, 0, 1, perLength);
   if (s)
+    s = args.number("reflength", 0.01, 1e-4, 1, c.contact.referenceLength);
+  if (s)
     s = args.number("amplitude", 0.01, 0, 1, c.scene.amplitude);
   if (s)
     s = args.number("frequency", 3, 0, 100, c.scene.frequency);
@@ -689,7 +691,8 @@ int usage()
                "              (out=<file>.h5)\n"
                "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
                "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
-               "              [contacts=1] [perlength=0] [amplitude=0.01] [frequency=3]\n";
+               "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
+               "              [amplitude=0.01] [frequency=3]\n";
   return 2;
 }
 
@@ -707,7 +710,7 @@ int main(int argc, char** argv)
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
        {"clump",
         {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
-          "contacts", "perlength", "amplitude", "frequency"},
+          "contacts", "perlength", "reflength", "amplitude", "frequency"},
          clump}}};
   const auto it = studies.find(study);
   if (it == studies.end())
