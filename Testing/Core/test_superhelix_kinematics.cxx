@@ -610,6 +610,75 @@ TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGram
   SuperHelix::GramMinSamples = saved;
 }
 
+TEST(SuperHelixKinematics, TensionStiffnessIsItsDefinitionOnCurledStrands)
+{
+  // K_T = ∫ T⁺(s) J_ω(s)ᵀ (I − n0 n0ᵀ) J_ω(s) ds (docs/super-helix.md), evaluated here from
+  // its definition with public pieces only, on curled strands (where the own element's
+  // J_ω = F0 G(u) and n0 = F0 E(u) e0 are not trivial): a strand at rest in its natural shape
+  // on a fixed root, hanging along its helix axis, so that the load is ρS g and the tension
+  // at s is n0(s) · ρS g (L − s);
+  // J_ω from central differences of frame(s) in q, δF Fᵀ = [δθ]× (ε = 1e-6 1/m: truncation
+  // ~(ε s)² ≈ 1e-14, round-off ~1e-16 / (ε s) ≈ 1e-9 relative); the same samples and weights
+  // (samples()). h → ∞ leaves no tension to the explicit part. Tolerance 1e-6 of max |K_T|.
+  for (const HairType type : {HairType::Wavy, HairType::Curly, HairType::Fuzzy})
+  {
+    HairParameters hair = HairParameters::preset(type);
+    hair.curvatureVariation = 0;
+    StrandSpec spec = StrandSpec::uniform(0.1, 5, hair);
+    spec.gravity = Eigen::Vector3d(9.81, 0, 0); // along the helix axis (the root's tangent +x)
+    SuperHelix h;
+    ASSERT_TRUE(h.initialize(spec).ok());
+    h.reconstruct();
+    h.assemble();
+    h.assembleTensionStiffness(1e30);
+    const Eigen::MatrixXd Kt = h.tensionStiffness();
+    const int m = 3 * h.elementCount();
+    const Eigen::VectorXd q0 = h.q(), zero = Eigen::VectorXd::Zero(m);
+    const std::vector<StrandSample> samples = h.samples();
+    const Eigen::Vector3d load = hair.linearDensity() * spec.gravity;
+    std::vector<Eigen::Matrix3Xd> Jw(samples.size(), Eigen::Matrix3Xd::Zero(3, m));
+    const double eps = 1e-6;
+    for (int b = 0; b < m; ++b)
+    {
+      SuperHelix hp = h, hm = h;
+      Eigen::VectorXd qp = q0, qm = q0;
+      qp[b] += eps;
+      qm[b] -= eps;
+      ASSERT_TRUE(hp.setState(qp, zero).ok());
+      ASSERT_TRUE(hm.setState(qm, zero).ok());
+      for (size_t i = 0; i < samples.size(); ++i)
+      {
+        const Eigen::Matrix3d dF = (hp.frame(samples[i].s) - hm.frame(samples[i].s)) / (2 * eps) *
+                                   h.frame(samples[i].s).transpose();
+        Jw[i].col(b) =
+            0.5 * Eigen::Vector3d(dF(2, 1) - dF(1, 2), dF(0, 2) - dF(2, 0), dF(1, 0) - dF(0, 1));
+      }
+    }
+    Eigen::MatrixXd ref = Eigen::MatrixXd::Zero(m, m);
+    int tense = 0;
+    for (size_t i = 0; i < samples.size(); ++i)
+    {
+      const Eigen::Vector3d n0 = h.frame(samples[i].s).col(0);
+      const double T = n0.dot(load * (h.length() - samples[i].s));
+      if (!(T > 0))
+        continue;
+      ++tense;
+      const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n0 * n0.transpose();
+      ref += samples[i].weight * T * Jw[i].transpose() * P * Jw[i];
+    }
+    const double scale = ref.cwiseAbs().maxCoeff();
+    ASSERT_GT(tense, 0);
+    ASSERT_GT(scale, 0);
+    EXPECT_LT((Kt - ref).cwiseAbs().maxCoeff(), 1e-6 * scale)
+        << "preset " << static_cast<int>(type) << ": " << (Kt - ref).cwiseAbs().maxCoeff() / scale
+        << " of max |K_T|, " << tense << " of " << samples.size() << " samples in tension";
+    std::printf("preset %d: K_T against its definition %.1e of max |K_T| (%d of %zu samples in "
+                "tension)\n",
+                static_cast<int>(type), (Kt - ref).cwiseAbs().maxCoeff() / scale, tense,
+                samples.size());
+  }
+}
+
 TEST(SuperHelixKinematics, TensionStiffnessIsTheLoadStiffnessOfAStraightHangingStrand)
 {
   // K_T keeps the tension part of the loads' stiffness −∂f/∂q. For a straight strand hanging
