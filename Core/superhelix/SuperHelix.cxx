@@ -328,10 +328,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.count = 0;
     if (withNodes)
     {
-      // F0 K and F0 K², so that the frame F0 E(u) and F0 G(u) at each sample are linear
-      // combinations (E, G are polynomials in K).
-      const Eigen::Matrix3d K = skew(k);
-      const Eigen::Matrix3d FK = Fr * K, FK2 = FK * K;
       const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
       Eigen::Vector3d omLocal;
       const ElementRule rule = rules[e];
@@ -362,8 +358,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
             const HelixCoefficients& c = nd.coefficients;
             const double u = nd.u;
             const double u2 = u * u;
-            nd.n0 = Fr.col(0) + (u * c.phi0) * FK.col(0) + (u2 * c.phi1) * FK2.col(0);
-            nd.FG = u * Fr + (u2 * c.phi1) * FK + (u2 * u * c.phi2) * FK2;
             // Kinetic energy: centreline and the cross-section's rotation ω(s) = ω + F0 G k̇,
             // in the sample's frame: E(u)ᵀ (F0ᵀ ω + G(u) k̇), with E(u)ᵀ = I − u φ0 K + u² φ1 K²
             // and G(u) = u I + u² φ1 K + u³ φ2 K² (K y = k × y).
@@ -741,8 +735,26 @@ void SuperHelix::assembleTensionStiffness(double h)
     const Element& el = k.elements[e];
     const double l = Spec.elementLengths[e];
     const double explicitTension = RhoS * l * l / (ExplicitTensionDivisor * h * h);
-    Eigen::Matrix3d Yown = Eigen::Matrix3d::Zero(), Down = Eigen::Matrix3d::Zero(),
-                    eP = Eigen::Matrix3d::Zero();
+    // The own element's terms from per-sample coefficients. With K = [k]×, V_i = K^i e0 (the
+    // columns of Vm), n0 = F0 E(u) e0 = F0 Vm c and F0ᵀ FG = G(u) = Σ_j d_j K^j, where
+    // c = (1, uφ0, u²φ1) and d = (u, u²φ1, u³φ2), and since G(u)ᵀ E(u) = G(u) (both are
+    // functions of K; Gᵀ E = ∫0^u exp((u − s) K) ds), G(u)ᵀ F0ᵀ n0 = G(u) e0 = g = Vm d. So
+    // with P = wT (I − n0 n0ᵀ) at a sample of weight w and tension T:
+    //   P FG = wT F0 (G − Vm c dᵀ Vmᵀ),  FGᵀ P FG = wT (GᵀG − Vm d dᵀ Vmᵀ),
+    //   P = F0 (wT I − Vm c cᵀ Vmᵀ wT) F0ᵀ,
+    // and GᵀG = Σ_ij (−1)^i d_i d_j K^(i+j) = d0² I + (2 d0 d2 − d1² − Ω² d2²) K² (odd powers
+    // cancel, K⁴ = −Ω² K²). Per sample only the weighted products of c and d are summed.
+    const Eigen::Vector3d kq = Q.segment<3>(3 * e);
+    const double k0 = kq[0], k1 = kq[1], k2 = kq[2], w0 = -(k1 * k1 + k2 * k2);
+    Eigen::Matrix3d Vm; // K e0 = (0, k2, −k1), K² e0 = k k0 − Ω² e0
+    Vm << 1, 0, w0, 0, k2, k0 * k1, 0, -k1, k0 * k2;
+    Eigen::Matrix3d W; // F0 Vm, n0 = W c
+    W.col(0) = el.F0.col(0);
+    W.col(1) = k2 * el.F0.col(1) - k1 * el.F0.col(2);
+    W.col(2) = w0 * el.F0.col(0) + (k0 * k1) * el.F0.col(1) + (k0 * k2) * el.F0.col(2);
+    double sw = 0, sd[3] = {0, 0, 0};
+    Eigen::Matrix3d sdd = Eigen::Matrix3d::Zero(), scd = Eigen::Matrix3d::Zero(),
+                    scc = Eigen::Matrix3d::Zero();
     double beyond = 0; // Σ w of the element's samples beyond the current one
     for (int j = el.first + el.count - 1; j >= el.first; --j)
     {
@@ -753,16 +765,34 @@ void SuperHelix::assembleTensionStiffness(double h)
       const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * nd.load;
       tailF += wf;
       beyond += nd.w;
-      const Eigen::Vector3d& n0 = nd.n0;
-      const double T = n0.dot(atSample) - explicitTension;
+      const HelixCoefficients& hc = nd.coefficients;
+      const double u = nd.u, a = u * u * hc.phi1;
+      const Eigen::Vector3d c(1, u * hc.phi0, a), d(u, a, u * u * u * hc.phi2);
+      const double T = (W * c).dot(atSample) - explicitTension;
       if (!(T > 0))
         continue;
-      Eigen::Matrix3d P = -(nd.w * T) * (n0 * n0.transpose());
-      P.diagonal().array() += nd.w * T;
-      const Eigen::Matrix3d PFG = P * nd.FG;
-      Yown += PFG;
-      Down.noalias() += nd.FG.transpose() * PFG;
-      eP += P;
+      const double wT = nd.w * T;
+      const Eigen::Vector3d wd = wT * d;
+      sw += wT;
+      for (int i = 0; i < 3; ++i)
+        sd[i] += wd[i];
+      sdd.noalias() += wd * d.transpose();
+      scd.noalias() += (wT * c) * d.transpose();
+      scc.noalias() += (wT * c) * c.transpose();
+    }
+    Eigen::Matrix3d Yown = Eigen::Matrix3d::Zero(), Down = Eigen::Matrix3d::Zero(),
+                    eP = Eigen::Matrix3d::Zero();
+    if (sw > 0) // some sample in tension
+    {
+      const Eigen::Matrix3d K = skew(kq), K2 = K * K;
+      Eigen::Matrix3d Gsum = sd[1] * K + sd[2] * K2;
+      Gsum.diagonal().array() += sd[0];
+      Yown.noalias() = el.F0 * (Gsum - Vm * scd * Vm.transpose());
+      Down = (2 * sdd(0, 2) - sdd(1, 1) - kq.squaredNorm() * sdd(2, 2)) * K2 -
+             Vm * sdd * Vm.transpose();
+      Down.diagonal().array() += sdd(0, 0);
+      eP = -(W * scc * W.transpose());
+      eP.diagonal().array() += sw;
     }
     Y[e] = Yown + tailP * el.A;
     At.block<3, 3>(3 * e, 0) = el.A.transpose();

@@ -207,8 +207,6 @@ private:
     bool hasK = false, hasD = false;
     Eigen::Vector3d jkd; // J k̇ of the own element (the point's velocity relative to its frame)
     Eigen::Matrix3d J;
-    Eigen::Vector3d n0; // tangent, the first column of the frame F(s) = F0 E(u)
-    Eigen::Matrix3d FG; // F0 G(u): the frame's rotation per δk of the own element
     HelixCoefficients coefficients;
   };
   struct Element
