@@ -346,7 +346,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           const Eigen::Vector3d Fg = Fr * hp.g;
           nd.J = Fr * hp.dg;
           const Eigen::Vector3d Jkd = nd.J * kd;
-          nd.jkd = Jkd;
           nd.r = r + Fg;
           nd.v = v + om.cross(Fg) + Jkd;
           nd.a0 = ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * hp.d2g;
