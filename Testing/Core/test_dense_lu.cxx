@@ -57,6 +57,27 @@ Eigen::VectorXd referenceSolve(Eigen::MatrixXd a, Eigen::VectorXd x)
 
 // Sizes around the panel width (4) and the 8-row blocks, up to the step's largest (3N = 360).
 const int Sizes[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 16, 17, 30, 31, 45, 60, 121, 360};
+
+// A random system a x = b of size m and what luSolveInPlace makes of it.
+struct Solved
+{
+  Eigen::MatrixXd a, lu;
+  Eigen::VectorXd b, x;
+  std::vector<int> piv;
+  double pivot;
+};
+
+Solved solveRandom(int m, std::mt19937& g)
+{
+  Solved s;
+  s.a = randomMatrix(m, g);
+  s.b = randomMatrix(m, g).col(0);
+  s.lu = s.a;
+  s.x = s.b;
+  s.piv.resize(static_cast<size_t>(m));
+  s.pivot = luSolveInPlace(s.lu.data(), s.x.data(), m, s.piv.data());
+  return s;
+}
 } // namespace
 
 TEST(DenseLu, BackwardErrorWithinTheBoundOfGaussianEliminationWithPartialPivoting)
@@ -69,13 +90,10 @@ TEST(DenseLu, BackwardErrorWithinTheBoundOfGaussianEliminationWithPartialPivotin
   std::mt19937 g(7);
   for (const int m : Sizes)
   {
-    const Eigen::MatrixXd a = randomMatrix(m, g);
-    const Eigen::VectorXd b = randomMatrix(m, g).col(0);
-    Eigen::MatrixXd lu = a;
-    Eigen::VectorXd x = b;
-    std::vector<int> piv(static_cast<size_t>(m));
-    const double pivot = luSolveInPlace(lu.data(), x.data(), m, piv.data());
-    ASSERT_GT(pivot, 0) << "m = " << m;
+    const Solved s = solveRandom(m, g);
+    const Eigen::MatrixXd &a = s.a, &lu = s.lu;
+    const Eigen::VectorXd &b = s.b, &x = s.x;
+    ASSERT_GT(s.pivot, 0) << "m = " << m;
     const Eigen::MatrixXd L = lu.triangularView<Eigen::UnitLower>();
     const Eigen::MatrixXd U = lu.triangularView<Eigen::Upper>();
     const Eigen::VectorXd bound = L.cwiseAbs() * (U.cwiseAbs() * x.cwiseAbs());
@@ -86,7 +104,7 @@ TEST(DenseLu, BackwardErrorWithinTheBoundOfGaussianEliminationWithPartialPivotin
     // P A = L U, with P the interchanges in order.
     Eigen::MatrixXd pa = a;
     for (int c = 0; c < m; ++c)
-      pa.row(c).swap(pa.row(piv[static_cast<size_t>(c)]));
+      pa.row(c).swap(pa.row(s.piv[static_cast<size_t>(c)]));
     const Eigen::MatrixXd lup = (L.cwiseAbs() * U.cwiseAbs()).eval();
     EXPECT_LE((pa - L * U).cwiseAbs().maxCoeff(), gamma * lup.maxCoeff()) << "m = " << m;
   }
@@ -100,13 +118,10 @@ TEST(DenseLu, SameResultsBitForBitAsTheColumnByColumnAlgorithm)
   std::mt19937 g(11);
   for (const int m : Sizes)
   {
-    const Eigen::MatrixXd a = randomMatrix(m, g);
-    const Eigen::VectorXd b = randomMatrix(m, g).col(0);
-    Eigen::MatrixXd lu = a;
-    Eigen::VectorXd x = b;
-    std::vector<int> piv(static_cast<size_t>(m));
-    ASSERT_GT(luSolveInPlace(lu.data(), x.data(), m, piv.data()), 0);
-    const Eigen::VectorXd ref = referenceSolve(a, b);
+    const Solved s = solveRandom(m, g);
+    const Eigen::VectorXd& x = s.x;
+    ASSERT_GT(s.pivot, 0) << "m = " << m;
+    const Eigen::VectorXd ref = referenceSolve(s.a, s.b);
     int differing = 0;
     for (int i = 0; i < m; ++i)
       differing += x[i] != ref[i];
