@@ -76,6 +76,21 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u
   f[6] = u7 * c.chi2;
 }
 
+/// The frame's rotation and its integral at u as polynomials in K = [k]× (coefficients c of
+/// Ω u): E(u) = e0 I + e1 K + e2 K² and G(u) = ∫0^u E = g0 I + g1 K + g2 K², with
+/// e = (1, uφ0, u²φ1) and g = (u, u²φ1, u³φ2).
+[[gnu::always_inline]] inline void helixFrameCoefficients(double u, const HelixCoefficients& c,
+                                                          double (&e)[3], double (&g)[3])
+{
+  const double u2 = u * u;
+  e[0] = 1;
+  e[1] = u * c.phi0;
+  e[2] = u2 * c.phi1;
+  g[0] = u;
+  g[1] = e[2];
+  g[2] = u2 * u * c.phi2;
+}
+
 /// The parts of helixPoint that are linear in the element functions' values at u (with
 /// x = Ω u: a = u²φ1(x), b = u³φ2(x), da = u⁴ψ1(x), db = u⁵ψ2(x)), in the element's start frame:
 ///   g = u e0 + a k×e0 + b k×(k×e0),

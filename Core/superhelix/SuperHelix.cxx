@@ -1,5 +1,6 @@
 #include "superhelix/SuperHelix.h"
 
+#include "common/Multiversioning.h"
 #include "superhelix/DenseLu.h"
 #include "superhelix/HelixFunctions.h"
 
@@ -19,8 +20,6 @@ thread_local Eigen::VectorXd SuperHelix::Rhs;
 thread_local std::vector<int> SuperHelix::Pivots;
 thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
 thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
-
-#include "common/Multiversioning.h"
 
 namespace
 {
@@ -628,10 +627,9 @@ void SuperHelix::assemble()
       // so only the weighted products of the coefficients are summed per sample; the
       // matrices K^i D K^j are formed once per element, below.
       {
-        const HelixCoefficients& c = nd.coefficients;
-        const double u = nd.u, u2 = u * u;
-        const double Ec[3] = {1, u * c.phi0, u2 * c.phi1};
-        const double Bc[3] = {u, -u2 * c.phi1, u2 * u * c.phi2};
+        double Ec[3], Bc[3]; // B = G(u) with −k: the middle coefficient changes sign
+        helixFrameCoefficients(nd.u, nd.coefficients, Ec, Bc);
+        Bc[1] = -Bc[1];
         for (int i = 0; i < 3; ++i)
         {
           const double wE = nd.w * Ec[i], wB = nd.w * Bc[i];
@@ -765,8 +763,9 @@ void SuperHelix::assembleTensionStiffness(double h)
       tailF += wf;
       beyond += nd.w;
       const HelixCoefficients& hc = nd.coefficients;
-      const double u = nd.u, a = u * u * hc.phi1;
-      const Eigen::Vector3d c(1, u * hc.phi0, a), d(u, a, u * u * u * hc.phi2);
+      double ce[3], dg[3];
+      helixFrameCoefficients(nd.u, hc, ce, dg);
+      const Eigen::Vector3d c(ce[0], ce[1], ce[2]), d(dg[0], dg[1], dg[2]);
       const double T = (W * c).dot(atSample) - explicitTension;
       if (!(T > 0))
         continue;
