@@ -62,6 +62,16 @@ struct Curled
     return h;
   }
 };
+
+// K_T of an initialized strand in its current state, for a step of h: the phases in the
+// order the step runs them (kinematics, then M and f, which K_T's tension needs).
+Eigen::MatrixXd tensionStiffnessOf(SuperHelix& h, double step)
+{
+  h.reconstruct();
+  h.assemble();
+  h.assembleTensionStiffness(step);
+  return h.tensionStiffness();
+}
 } // namespace
 
 TEST(SuperHelixKinematics, SeriesAndClosedFormsAgreeAtTheSwitch)
@@ -628,10 +638,7 @@ TEST(SuperHelixKinematics, TensionStiffnessIsItsDefinitionOnCurledStrands)
     spec.gravity = Eigen::Vector3d(9.81, 0, 0); // along the helix axis (the root's tangent +x)
     SuperHelix h;
     ASSERT_TRUE(h.initialize(spec).ok());
-    h.reconstruct();
-    h.assemble();
-    h.assembleTensionStiffness(1e30);
-    const Eigen::MatrixXd Kt = h.tensionStiffness();
+    const Eigen::MatrixXd Kt = tensionStiffnessOf(h, 1e30);
     const int m = 3 * h.elementCount();
     const Eigen::VectorXd q0 = h.q(), zero = Eigen::VectorXd::Zero(m);
     const std::vector<StrandSample> samples = h.samples();
@@ -703,10 +710,7 @@ TEST(SuperHelixKinematics, TensionStiffnessIsTheLoadStiffnessOfAStraightHangingS
   };
   SuperHelix h;
   ASSERT_TRUE(h.initialize(spec).ok());
-  h.reconstruct();
-  h.assemble();
-  h.assembleTensionStiffness(1e30);
-  const Eigen::MatrixXd Kt = h.tensionStiffness();
+  const Eigen::MatrixXd Kt = tensionStiffnessOf(h, 1e30);
   const double scale = Kt.cwiseAbs().maxCoeff();
   ASSERT_GT(scale, 0);
   const double eps = 1e-4;
