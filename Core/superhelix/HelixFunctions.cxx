@@ -153,6 +153,30 @@ void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, H
                             k2 * m1 + v2 * m2 - (dda * k1 + da2 * v1));
 }
 
+void helixBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, HelixBasis& out)
+{
+  helixGValues(k, 1, 0, 0, out.g[0]);
+  helixGValues(k, 0, 1, 0, out.g[1]);
+  helixGValues(k, 0, 0, 1, out.g[2]);
+  helixJacobianValues(k, 1, 0, 0, 0, out.dg[0]);
+  helixJacobianValues(k, 0, 1, 0, 0, out.dg[1]);
+  helixJacobianValues(k, 0, 0, 1, 0, out.dg[2]);
+  helixJacobianValues(k, 0, 0, 0, 1, out.dg[3]);
+  // helixPoint's D²g[v, v] (v = kd, p = k·v) taken apart by function: b = f2, da = f3,
+  // db = f4, u⁶χ1 = f5, u⁷χ2 = f6 (dda = f5 p² + f3 |v|², ddb = f6 p² + f4 |v|²).
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double v0 = kd.x(), v1 = kd.y(), v2 = kd.z();
+  const double w0 = -(k1 * k1 + k2 * k2);
+  const double kv12 = k1 * v1 + k2 * v2, vv12 = v1 * v1 + v2 * v2;
+  const double p = k0 * v0 + kv12, vv = v0 * v0 + vv12, pp = p * p;
+  out.d2g[0] = Eigen::Vector3d(-2 * vv12, 2 * v0 * v1, 2 * v0 * v2);
+  out.d2g[1] = Eigen::Vector3d(0, vv * k2 + 2 * p * v2, -(vv * k1 + 2 * p * v1));
+  const double m1 = vv * k0 + 2 * p * v0, m2 = 2 * p * k0;
+  out.d2g[2] = Eigen::Vector3d(vv * w0 - 4 * p * kv12, k1 * m1 + v1 * m2, k2 * m1 + v2 * m2);
+  out.d2g[3] = Eigen::Vector3d(0, pp * k2, -pp * k1);
+  out.d2g[4] = Eigen::Vector3d(pp * w0, pp * k0 * k1, pp * k0 * k2);
+}
+
 void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixEnd& out)
 {
   HelixCoefficients h;

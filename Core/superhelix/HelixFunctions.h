@@ -125,6 +125,20 @@ void helixBilinear(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u
   dg(2, 2) = k2 * z2 + bk0;
 }
 
+/// helixPoint's g, ∂g/∂k and D²g[kd, kd] are linear in the element functions f =
+/// helixFunctionValues(u, ·) with coefficients that are constant on the element:
+///   g = Σ_{i<3} f_i g_i,  ∂g/∂k = Σ_{i=1..4} f_i dg_{i−1},  D²g[kd, kd] = Σ_{i=2..6} f_i
+///   d2g_{i−2}.
+/// Computed once per element, they turn a sample's reconstruction into a few sums instead
+/// of helixPoint's kernels.
+struct HelixBasis
+{
+  Eigen::Vector3d g[3];
+  Eigen::Matrix3d dg[4];
+  Eigen::Vector3d d2g[5];
+};
+void helixBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, HelixBasis& out);
+
 /// helixBilinear from the values at u of the functions it is linear in: c3 = u³φ2,
 /// c1 = u⁴ψ1, c2 = u⁵ψ2, e6 = u⁶χ1, e7 = u⁷χ2 (φ, ψ, χ of Ω u); like helixJacobianValues,
 /// other values give sums of the coefficient matrices.

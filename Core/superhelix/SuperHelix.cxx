@@ -308,7 +308,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   Eigen::Matrix3d Fr = root.orientation;
   Eigen::Vector3d r = root.position, om = root.angularVelocity, v = root.velocity;
   Eigen::Vector3d al = root.angularAcceleration, ac = root.acceleration;
-  HelixPoint hp;
+  HelixBasis basis;
   HelixEnd he;
   double kinetic = 0, grav = 0;
   for (int e = 0; e < n; ++e)
@@ -316,6 +316,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     const Eigen::Vector3d k = q.segment<3>(3 * e);
     const Eigen::Vector3d kd = qd.segment<3>(3 * e);
     const double l = Spec.elementLengths[e];
+    const double omega = std::sqrt(k.squaredNorm());
     Element& el = out.elements[e];
     el.F0 = Fr;
     el.r0 = r;
@@ -333,6 +334,36 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       const GaussRule& gauss = gaussLegendre(rule.points);
       const int nsub = rule.intervals;
       const double hsub = l / nsub;
+      // Every sample's Fg, J, v, a0 and v0 is linear in the element functions f_i(u)
+      // (helixBasis) with coefficients constant on the element, formed here once in the
+      // world frame (Fg = Σ f_i Gw_i, J = Σ f_i Jw_i, v = v + Σ f_i Vw_i, a0 = ac + Σ f_i Aw_i,
+      // v0 = v0r + Σ f_i V0w_i), so a sample costs a few sums instead of helixPoint's kernels
+      // and the frame products (docs/super-helix.md, "Velocities and the velocity-dependent
+      // terms").
+      helixBasis(k, kd, basis);
+      Eigen::Vector3d Gw[3], Vw[5], Aw[7], V0w[3];
+      Eigen::Matrix3d Jw[4];
+      for (int i = 0; i < 3; ++i)
+      {
+        Gw[i].noalias() = Fr * basis.g[i];
+        V0w[i] = root.angularVelocity.cross(Gw[i]);
+        Vw[i] = om.cross(Gw[i]);
+        Aw[i] = al.cross(Gw[i]) + om.cross(Vw[i]);
+      }
+      Vw[3].setZero();
+      Vw[4].setZero();
+      for (int i = 3; i < 7; ++i)
+        Aw[i].setZero();
+      for (int i = 0; i < 4; ++i)
+      {
+        Jw[i].noalias() = Fr * basis.dg[i];
+        const Eigen::Vector3d jkd = Jw[i] * kd;
+        Vw[i + 1] += jkd;
+        Aw[i + 1] += 2 * om.cross(jkd);
+      }
+      for (int i = 0; i < 5; ++i)
+        Aw[i + 2].noalias() += Fr * basis.d2g[i];
+      const Eigen::Vector3d v0r = root.velocity + root.angularVelocity.cross(r - root.position);
       for (int sI = 0; sI < nsub; ++sI)
       {
         for (int g = 0; g < rule.points; ++g)
@@ -341,14 +372,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.element = e;
           nd.u = hsub * (sI + gauss.x[g]);
           nd.w = hsub * gauss.w[g];
-          helixPoint(k, kd, nd.u, hp, &nd.coefficients);
-          const Eigen::Vector3d Fg = Fr * hp.g;
-          nd.J = Fr * hp.dg;
-          const Eigen::Vector3d Jkd = nd.J * kd;
+          nd.coefficients = helixCoefficients(omega * nd.u);
+          double f[7];
+          helixFunctionValues(nd.u, nd.coefficients, f);
+          const Eigen::Vector3d Fg = f[0] * Gw[0] + f[1] * Gw[1] + f[2] * Gw[2];
+          nd.J = f[1] * Jw[0] + f[2] * Jw[1] + f[3] * Jw[2] + f[4] * Jw[3];
           nd.r = r + Fg;
-          nd.v = v + om.cross(Fg) + Jkd;
-          nd.a0 = ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * hp.d2g;
-          nd.v0 = root.velocity + root.angularVelocity.cross(nd.r - root.position);
+          nd.v = v + f[0] * Vw[0] + f[1] * Vw[1] + f[2] * Vw[2] + f[3] * Vw[3] + f[4] * Vw[4];
+          nd.a0 = ac + f[0] * Aw[0] + f[1] * Aw[1] + f[2] * Aw[2] + f[3] * Aw[3] + f[4] * Aw[4] +
+                  f[5] * Aw[5] + f[6] * Aw[6];
+          nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
           nd.wind.setZero();
           nd.contact.setZero();
           nd.hasK = nd.hasD = false;

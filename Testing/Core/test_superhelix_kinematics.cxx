@@ -286,6 +286,52 @@ TEST(SuperHelixKinematics, HelixBilinearIsThePolarizationOfTheQuadraticForms)
   }
 }
 
+TEST(SuperHelixKinematics, HelixBasisRebuildsHelixPoint)
+{
+  // helixBasis takes helixPoint's expressions apart by element function, so the sums
+  // Σ f_i (coefficient i) are the same numbers summed in another order: round-off only.
+  // Each term is bounded by Σ |f_i| |coefficient i|, and a sum of m terms rounded in any
+  // order differs by at most ~2 m ε of that bound (m ≤ 5 here, ε = 1.1e-16): 1e-14 of it.
+  for (const HelixSample& sm : helixSamples())
+  {
+    const Eigen::Vector3d& k = sm.k;
+    const Eigen::Vector3d& kd = sm.kd;
+    const double u = sm.u;
+    HelixPoint hp;
+    HelixCoefficients hc;
+    helixPoint(k, kd, u, hp, &hc);
+    double f[7];
+    helixFunctionValues(u, hc, f);
+    HelixBasis b;
+    helixBasis(k, kd, b);
+    Eigen::Vector3d g = Eigen::Vector3d::Zero(), gb = g, d2g = g, d2gb = g;
+    Eigen::Matrix3d dg = Eigen::Matrix3d::Zero(), dgb = dg;
+    for (int i = 0; i < 3; ++i)
+    {
+      g += f[i] * b.g[i];
+      gb += std::abs(f[i]) * b.g[i].cwiseAbs();
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      dg += f[i + 1] * b.dg[i];
+      dgb += std::abs(f[i + 1]) * b.dg[i].cwiseAbs();
+    }
+    for (int i = 0; i < 5; ++i)
+    {
+      d2g += f[i + 2] * b.d2g[i];
+      d2gb += std::abs(f[i + 2]) * b.d2g[i].cwiseAbs();
+    }
+    const std::string where = "k = " + std::to_string(k.norm()) + ", u = " + std::to_string(u);
+    for (int r = 0; r < 3; ++r)
+    {
+      EXPECT_LE(std::abs(g[r] - hp.g[r]), 1e-14 * gb[r] + 1e-300) << where;
+      EXPECT_LE(std::abs(d2g[r] - hp.d2g[r]), 1e-14 * d2gb[r] + 1e-300) << where;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_LE(std::abs(dg(r, c) - hp.dg(r, c)), 1e-14 * dgb(r, c) + 1e-300) << where;
+    }
+  }
+}
+
 TEST(SuperHelixKinematics, StraightElementIsExact)
 {
   // k = 0 (the series at x = 0): g = u e0, E = I, G = u I exactly; the only non-zero
