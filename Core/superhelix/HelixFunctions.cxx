@@ -181,6 +181,12 @@ void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, Hel
 {
   HelixCoefficients h;
   helixPoint(k, kd, u, out, &h);
+  helixEndRotation(k, kd, u, h, out);
+}
+
+void helixEndRotation(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u,
+                      const HelixCoefficients& h, HelixEnd& out)
+{
   const double k0 = k.x(), k1 = k.y(), k2 = k.z();
   const double u2 = u * u, u3 = u2 * u;
   // E = I + A K + B K², G = u I + B K + C K², with K = [k]×, K² = k kᵀ − Ω² I (its diagonal

@@ -40,6 +40,9 @@ struct HelixEnd : HelixPoint
 void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixPoint& out,
                 HelixCoefficients* coefficients = nullptr);
 void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixEnd& out);
+/// Only HelixEnd's own fields (E, G, dGk), from the coefficients h = helixCoefficients(|k| u).
+void helixEndRotation(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u,
+                      const HelixCoefficients& h, HelixEnd& out);
 
 inline Eigen::Matrix3d skew(const Eigen::Vector3d& v)
 {

@@ -266,7 +266,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Energy = EnergyReport{};
   F.resize(3 * n);
   Initialized = true;
-  kinematics(Q, Qdot, root, Time, true, Cur);
+  kinematics(Q, Qdot, root, Time, Cur);
   CurValid = true;
   Energy.time = Time;
   Energy.kinetic = Cur.kinetic;
@@ -281,8 +281,7 @@ double SuperHelix::elasticEnergy(const Eigen::VectorXd& q) const
 }
 
 void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
-                            const RootState& root, double time, bool withNodes,
-                            Kinematics& out) const
+                            const RootState& root, double time, Kinematics& out) const
 {
   const int n = elementCount();
   out.root = root;
@@ -291,19 +290,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   // Each element's rule, chosen once per call (one search over the rules for every element
   // is ~1.5 % of a fuzzy step's instructions).
   thread_local std::vector<ElementRule> rules;
-  if (withNodes)
+  // Size the samples once (the vector keeps its capacity from step to step, and most steps
+  // keep the count), then fill them in place.
+  rules.resize(static_cast<size_t>(n));
+  size_t count = 0;
+  for (int e = 0; e < n; ++e)
   {
-    // Size the samples once (the vector keeps its capacity from step to step, and most
-    // steps keep the count), then fill them in place.
-    rules.resize(static_cast<size_t>(n));
-    size_t count = 0;
-    for (int e = 0; e < n; ++e)
-    {
-      rules[e] = Rules.choose(q.segment<3>(3 * e).norm() * Spec.elementLengths[e]);
-      count += static_cast<size_t>(rules[e].samples());
-    }
-    out.nodes.resize(count);
+    rules[e] = Rules.choose(q.segment<3>(3 * e).norm() * Spec.elementLengths[e]);
+    count += static_cast<size_t>(rules[e].samples());
   }
+  out.nodes.resize(count);
   size_t next = 0;
   Eigen::Matrix3d Fr = root.orientation;
   Eigen::Vector3d r = root.position, om = root.angularVelocity, v = root.velocity;
@@ -325,8 +321,35 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     el.alpha0 = al;
     el.acc0 = ac;
     el.first = static_cast<int>(next);
-    el.count = 0;
-    if (withNodes)
+    // Every sample's Fg, J, v, a0 and v0 is linear in the element functions f_i(u)
+    // (helixBasis) with coefficients constant on the element, formed here once in the world
+    // frame (Fg = Σ f_i Gw_i, J = Σ f_i Jw_i, v = v + Σ f_i Vw_i, a0 = ac + Σ f_i Aw_i,
+    // v0 = v0r + Σ f_i V0w_i), so a sample, and the element's end, cost a few sums instead of
+    // helixPoint's kernels and the frame products (docs/super-helix.md, "Velocities and the
+    // velocity-dependent terms").
+    helixBasis(k, kd, basis);
+    Eigen::Vector3d Gw[3], Vw[5], Aw[7], V0w[3], JwKd[4];
+    Eigen::Matrix3d Jw[4];
+    for (int i = 0; i < 3; ++i)
+    {
+      Gw[i].noalias() = Fr * basis.g[i];
+      V0w[i] = root.angularVelocity.cross(Gw[i]);
+      Vw[i] = om.cross(Gw[i]);
+      Aw[i] = al.cross(Gw[i]) + om.cross(Vw[i]);
+    }
+    Vw[3].setZero();
+    Vw[4].setZero();
+    for (int i = 3; i < 7; ++i)
+      Aw[i].setZero();
+    for (int i = 0; i < 4; ++i)
+    {
+      Jw[i].noalias() = Fr * basis.dg[i];
+      JwKd[i].noalias() = Jw[i] * kd;
+      Vw[i + 1] += JwKd[i];
+      Aw[i + 1] += 2 * om.cross(JwKd[i]);
+    }
+    for (int i = 0; i < 5; ++i)
+      Aw[i + 2].noalias() += Fr * basis.d2g[i];
     {
       const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
       Eigen::Vector3d omLocal;
@@ -334,35 +357,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       const GaussRule& gauss = gaussLegendre(rule.points);
       const int nsub = rule.intervals;
       const double hsub = l / nsub;
-      // Every sample's Fg, J, v, a0 and v0 is linear in the element functions f_i(u)
-      // (helixBasis) with coefficients constant on the element, formed here once in the
-      // world frame (Fg = Σ f_i Gw_i, J = Σ f_i Jw_i, v = v + Σ f_i Vw_i, a0 = ac + Σ f_i Aw_i,
-      // v0 = v0r + Σ f_i V0w_i), so a sample costs a few sums instead of helixPoint's kernels
-      // and the frame products (docs/super-helix.md, "Velocities and the velocity-dependent
-      // terms").
-      helixBasis(k, kd, basis);
-      Eigen::Vector3d Gw[3], Vw[5], Aw[7], V0w[3];
-      Eigen::Matrix3d Jw[4];
-      for (int i = 0; i < 3; ++i)
-      {
-        Gw[i].noalias() = Fr * basis.g[i];
-        V0w[i] = root.angularVelocity.cross(Gw[i]);
-        Vw[i] = om.cross(Gw[i]);
-        Aw[i] = al.cross(Gw[i]) + om.cross(Vw[i]);
-      }
-      Vw[3].setZero();
-      Vw[4].setZero();
-      for (int i = 3; i < 7; ++i)
-        Aw[i].setZero();
-      for (int i = 0; i < 4; ++i)
-      {
-        Jw[i].noalias() = Fr * basis.dg[i];
-        const Eigen::Vector3d jkd = Jw[i] * kd;
-        Vw[i + 1] += jkd;
-        Aw[i + 1] += 2 * om.cross(jkd);
-      }
-      for (int i = 0; i < 5; ++i)
-        Aw[i + 2].noalias() += Fr * basis.d2g[i];
       const Eigen::Vector3d v0r = root.velocity + root.angularVelocity.cross(r - root.position);
       for (int sI = 0; sI < nsub; ++sI)
       {
@@ -403,22 +397,26 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       }
       el.count = static_cast<int>(next) - el.first;
     }
-    helixEnd(k, kd, l, he);
-    const Eigen::Vector3d Fg = Fr * he.g;
-    const Eigen::Matrix3d FJ = Fr * he.dg;
-    const Eigen::Vector3d Jkd = FJ * kd;
+    // The element's end: the same sums at u = l, and the frame's rotation over the element.
+    const HelixCoefficients ch = helixCoefficients(omega * l);
+    double f[7];
+    helixFunctionValues(l, ch, f);
+    helixEndRotation(k, kd, l, ch, he);
+    const Eigen::Vector3d Fg = f[0] * Gw[0] + f[1] * Gw[1] + f[2] * Gw[2];
+    const Eigen::Matrix3d FJ = f[1] * Jw[0] + f[2] * Jw[1] + f[3] * Jw[2] + f[4] * Jw[3];
     const Eigen::Vector3d rEnd = r + Fg;
     el.A = Fr * he.G;
     el.jEnd = FJ;
-    el.jkdEnd = Jkd;
+    el.jkdEnd = f[1] * JwKd[0] + f[2] * JwKd[1] + f[3] * JwKd[2] + f[4] * JwKd[3];
     el.fgEnd = Fg;
     for (int i = 0; i < 3; ++i)
       el.W.col(i) = FJ.col(i) - el.A.col(i).cross(rEnd);
     const Eigen::Vector3d Akd = el.A * kd;
     el.akd = Akd;
-    const Eigen::Vector3d vEnd = v + om.cross(Fg) + Jkd;
-    const Eigen::Vector3d acEnd =
-        ac + al.cross(Fg) + om.cross(om.cross(Fg)) + 2 * om.cross(Jkd) + Fr * he.d2g;
+    const Eigen::Vector3d vEnd =
+        v + f[0] * Vw[0] + f[1] * Vw[1] + f[2] * Vw[2] + f[3] * Vw[3] + f[4] * Vw[4];
+    const Eigen::Vector3d acEnd = ac + f[0] * Aw[0] + f[1] * Aw[1] + f[2] * Aw[2] + f[3] * Aw[3] +
+                                  f[4] * Aw[4] + f[5] * Aw[5] + f[6] * Aw[6];
     const Eigen::Vector3d alEnd = al + om.cross(Akd) + Fr * he.dGk;
     om += Akd;
     al = alEnd;
@@ -553,7 +551,7 @@ const std::vector<StrandSample>& SuperHelix::samples() const
 
 void SuperHelix::reconstruct()
 {
-  kinematics(Q, Qdot, rootState(Time), Time, true, Cur);
+  kinematics(Q, Qdot, rootState(Time), Time, Cur);
   CurValid = true;
 }
 
@@ -1564,7 +1562,7 @@ Status SuperHelix::singleStep(double h)
   // commit, so each strand keeps one set of samples (not two): with hundreds of strands
   // stepped in turn, the strand's data streamed through the caches is what a step costs.
   thread_local Kinematics next;
-  kinematics(qN, qdN, rootN, t1, true, next);
+  kinematics(qN, qdN, rootN, t1, next);
   const double elastic = elasticEnergy(qN);
   const double e0 = Energy.mechanical();
   const double e1 = next.kinetic + elastic + next.gravitational;

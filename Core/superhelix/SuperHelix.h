@@ -232,7 +232,7 @@ private:
   };
 
   void kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const RootState& root,
-                  double time, bool withNodes, Kinematics& out) const;
+                  double time, Kinematics& out) const;
   int locate(double s, double& u) const;
   Status evaluateForces(Kinematics& k, double time);
   Status singleStep(double h);
