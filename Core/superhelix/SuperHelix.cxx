@@ -69,6 +69,26 @@ double uniformSigned(std::mt19937& g)
 {
   return 2.0 * (static_cast<double>(g()) / 4294967296.0) - 1.0;
 }
+// The step's matrix a M − b C + c K_T and rhs += (M − b C) q̇, column by column (m × m,
+// column-major): one pass over the three matrices instead of three.
+HAIR_AVX2_CLONES
+void formStepSystem(double* __restrict lhs, double* __restrict rhs, const double* __restrict M,
+                    const double* __restrict C, const double* __restrict Kt,
+                    const double* __restrict qd, int m, double a, double b, double c)
+{
+  for (int j = 0; j < m; ++j)
+  {
+    const double q = qd[j];
+    const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
+    for (int i = 0; i < m; ++i)
+    {
+      const double mij = M[o + i], cij = C[o + i];
+      lhs[o + i] = a * mij - b * cij + c * Kt[o + i];
+      rhs[i] += (mij - b * cij) * q;
+    }
+  }
+}
+
 // dst(r, c) = Σ_{j < K} src(r, j) z(j, c) for r < rows and c < 3, column-major (src with
 // leading dimension lds, z K × 3 contiguous, dst with leading dimension ldd); with Mirror,
 // each row's three values also go to the transposed place, mirror[r ldd + c]. The three
@@ -1365,13 +1385,14 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 + Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint,
   // one factor of the quadratic ones at the new velocity.
   const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
-  Lhs = airScale * M - (0.5 * h) * C + (h * h) * Kt; // one pass, same order of operations
+  const int m = static_cast<int>(M.rows());
+  Lhs.resize(m, m);
+  Rhs = h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
+  // Lhs and M q̇ − ½ h C q̇ in one pass over M, C and K_T.
+  formStepSystem(Lhs.data(), Rhs.data(), M.data(), C.data(), Kt.data(), Qdot.data(), m, airScale,
+                 0.5 * h, h * h);
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
-  Rhs.noalias() = M * Qdot;
-  Rhs.noalias() -= (0.5 * h) * (C * Qdot);
-  Rhs += h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
   addContactJacobians(h);
-  const int m = static_cast<int>(Lhs.rows());
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
   {
