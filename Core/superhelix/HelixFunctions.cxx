@@ -177,6 +177,42 @@ void helixBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, HelixBasis&
   out.d2g[4] = Eigen::Vector3d(pp * w0, pp * k0 * k1, pp * k0 * k2);
 }
 
+void helixBilinearBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd,
+                        const Eigen::Matrix3d& F, Eigen::Matrix3d (&out)[5])
+{
+  // helixBilinearValues with one function at a time (v = kd, p = k·v, w = k × (k × e0)):
+  //   c3 = u³φ2:  −2 e0 vᵀ + v0 I + v e0ᵀ
+  //   c1 = u⁴ψ1:  (v × e0) kᵀ + (k × e0) vᵀ + p (e1 e2ᵀ − e2 e1ᵀ)
+  //   c2 = u⁵ψ2:  a kᵀ + w vᵀ + p k0 I + p k e0ᵀ,
+  //               a = (−2 (k1 v1 + k2 v2 + p), k1 v0 + k0 v1, k2 v0 + k0 v2)
+  //   e6 = u⁶χ1:  p (k × e0) kᵀ
+  //   e7 = u⁷χ2:  p w kᵀ
+  // and F times each, with F e0, F e1, F e2 the columns of F.
+  const double k0 = k.x(), k1 = k.y(), k2 = k.z();
+  const double v0 = kd.x(), v1 = kd.y(), v2 = kd.z();
+  const double kv12 = k1 * v1 + k2 * v2, p = k0 * v0 + kv12, w0 = -(k1 * k1 + k2 * k2);
+  const Eigen::Vector3d f0 = F.col(0), f1 = F.col(1), f2 = F.col(2);
+  const Eigen::Vector3d Fv = F * kd, Fk = F * k;
+  const Eigen::Vector3d Fkx = k2 * f1 - k1 * f2; // F (k × e0)
+  const Eigen::Vector3d Fvx = v2 * f1 - v1 * f2; // F (v × e0)
+  const Eigen::Vector3d Fw = w0 * f0 + (k0 * k1) * f1 + (k0 * k2) * f2;
+  const Eigen::Vector3d Fa =
+      (-2 * (kv12 + p)) * f0 + (k1 * v0 + k0 * v1) * f1 + (k2 * v0 + k0 * v2) * f2;
+  out[0].noalias() = (-2 * f0) * kd.transpose();
+  out[0] += v0 * F;
+  out[0].col(0) += Fv;
+  out[1].noalias() = Fvx * k.transpose();
+  out[1].noalias() += Fkx * kd.transpose();
+  out[1].col(2) += p * f1;
+  out[1].col(1) -= p * f2;
+  out[2].noalias() = Fa * k.transpose();
+  out[2].noalias() += Fw * kd.transpose();
+  out[2] += (p * k0) * F;
+  out[2].col(0) += p * Fk;
+  out[3].noalias() = (p * Fkx) * k.transpose();
+  out[4].noalias() = (p * Fw) * k.transpose();
+}
+
 void helixEnd(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixEnd& out)
 {
   HelixCoefficients h;

@@ -142,6 +142,13 @@ struct HelixBasis
 };
 void helixBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, HelixBasis& out);
 
+/// helixBilinear's d2gW (columns D²g[kd, e_j]) is linear in the element functions f2 … f6
+/// as well: F d2gW = Σ_{i=2..6} f_i out[i − 2] for any matrix F (the element's start frame),
+/// with out formed here once per element from closed forms (outer products of F's columns
+/// and of k, kd).
+void helixBilinearBasis(const Eigen::Vector3d& k, const Eigen::Vector3d& kd,
+                        const Eigen::Matrix3d& F, Eigen::Matrix3d (&out)[5]);
+
 /// helixBilinear from the values at u of the functions it is linear in: c3 = u³φ2,
 /// c1 = u⁴ψ1, c2 = u⁵ψ2, e6 = u⁶χ1, e7 = u⁷χ2 (φ, ψ, χ of Ω u); like helixJacobianValues,
 /// other values give sums of the coefficient matrices.

@@ -871,10 +871,10 @@ struct SampleMoments
 
   HAIR_AVX2_CLONES
   void add(double w, const double* __restrict J, const Eigen::Vector3d& fgv,
-           const double* __restrict F0, const double* __restrict D)
+           const double* __restrict y)
   {
     const double f[3] = {fgv[0], fgv[1], fgv[2]};
-    double wj[9], y[9];
+    double wj[9];
     for (int i = 0; i < 9; ++i)
       wj[i] = w * J[i];
     sc += w;
@@ -902,9 +902,6 @@ struct SampleMoments
     for (int c = 0; c < 3; ++c)
       for (int b = 0; b < 3; ++b)
         S2[3 * c + b] += w * f[b] * f[c];
-    for (int c = 0; c < 3; ++c)
-      for (int b = 0; b < 3; ++b)
-        y[3 * c + b] = w * (F0[b] * D[3 * c] + F0[3 + b] * D[3 * c + 1] + F0[6 + b] * D[3 * c + 2]);
     for (int c = 0; c < 3; ++c)
       for (int a = 0; a < 3; ++a)
         Qm[3 * c + a] +=
@@ -1110,12 +1107,21 @@ void SuperHelix::assembleVelocityJacobian()
       fg.moments(kq, kd, el.F0, sm);
     }
     else
+    {
+      // Y = w F0 D²g[k̇, ·] = w Σ_i f_i FB_i (helixBilinearBasis, once per element).
+      Eigen::Matrix3d FB[5];
+      helixBilinearBasis(kq, kd, el.F0, FB);
       for (int j = el.first; j < el.first + el.count; ++j)
       {
         const Node& nd = k.nodes[j];
-        helixBilinear(kq, kd, nd.u, D2W, nullptr, &nd.coefficients);
-        sm.add(nd.w, nd.J.data(), nd.r - el.r0, el.F0.data(), D2W.data());
+        double f[7], y[9];
+        helixFunctionValues(nd.u, nd.coefficients, f);
+        for (int c = 0; c < 9; ++c)
+          y[c] = nd.w * (f[2] * FB[0].data()[c] + f[3] * FB[1].data()[c] + f[4] * FB[2].data()[c] +
+                         f[5] * FB[3].data()[c] + f[6] * FB[4].data()[c]);
+        sm.add(nd.w, nd.J.data(), nd.r - el.r0, y);
       }
+    }
     using M3 = Eigen::Map<const Eigen::Matrix3d>;
     using V3 = Eigen::Map<const Eigen::Vector3d>;
     const M3 PJ(sm.PJ), S2(sm.S2), Qm(sm.Qm), SD(sm.SD), R(sm.R);

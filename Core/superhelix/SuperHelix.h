@@ -189,11 +189,14 @@ public:
   static constexpr int MaxSubsteps = 256;
   /// Elements with at least this many quadrature samples sum the velocity Jacobian's
   /// moments from a Gram matrix of the helix functions (the same sums in another order:
-  /// cheaper per sample, dearer per element; see FunctionGram in SuperHelix.cxx). Measured
-  /// break-even, C alone in one process: 6 samples per element (wavy) ±2 %, 8 (curly) −5 %,
-  /// 16 (fuzzy) −26 %. A tuning knob, not a model setting: the tests set it to 1 and to a
-  /// large value to compare both ways.
-  static inline int GramMinSamples = 7;
+  /// cheaper per sample, dearer per element; see FunctionGram in SuperHelix.cxx). Since the
+  /// per-sample path takes D²g[k̇, ·] from per-element coefficients (helixBilinearBasis),
+  /// the break-even is ~11–12 samples: instructions per step at N = 10 (callgrind), per
+  /// sample against Gram, curly (7.6 samples per element) 108.0 M against 111.9 M, fuzzy
+  /// (15.4) 156.4 M against 153.0 M over 330 steps; BM_GramSideBySide, C alone, 8.4 against
+  /// 9.4 µs (wavy), 9.1 against 9.7 (curly), 11.5 against 10.6 (fuzzy). A tuning knob, not a
+  /// model setting: the tests set it to 1 and to a large value to compare both ways.
+  static inline int GramMinSamples = 12;
 
 private:
   // One quadrature sample of the step, streamed through several times per step. Aligned to

@@ -332,6 +332,44 @@ TEST(SuperHelixKinematics, HelixBasisRebuildsHelixPoint)
   }
 }
 
+TEST(SuperHelixKinematics, HelixBilinearBasisRebuildsHelixBilinear)
+{
+  // F d2gW = Σ f_i out_i for a frame F: helixBilinearValues taken apart by function, so only
+  // the order of the roundings differs. Bound as for HelixBasisRebuildsHelixPoint, with the
+  // terms' magnitudes Σ |f_i| |F| |D_i| (|F| |D_i| ≥ |F D_i| entrywise): 1e-14 of it.
+  std::mt19937 gen(5);
+  std::normal_distribution<double> nd;
+  for (const HelixSample& sm : helixSamples())
+  {
+    const Eigen::Vector3d& k = sm.k;
+    const Eigen::Vector3d& kd = sm.kd;
+    const double u = sm.u;
+    const Eigen::Matrix3d F =
+        Eigen::AngleAxisd(nd(gen), Eigen::Vector3d(nd(gen), nd(gen), nd(gen)).normalized())
+            .toRotationMatrix();
+    Eigen::Matrix3d W;
+    helixBilinear(k, kd, u, W, nullptr);
+    const HelixCoefficients hc = helixCoefficients(std::sqrt(k.squaredNorm()) * u);
+    double f[7];
+    helixFunctionValues(u, hc, f);
+    Eigen::Matrix3d B[5], I[5];
+    helixBilinearBasis(k, kd, F, B);
+    helixBilinearBasis(k, kd, Eigen::Matrix3d::Identity(), I);
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero(), bound = sum;
+    for (int i = 0; i < 5; ++i)
+    {
+      sum += f[i + 2] * B[i];
+      bound += std::abs(f[i + 2]) * (F.cwiseAbs() * I[i].cwiseAbs());
+    }
+    const Eigen::Matrix3d ref = F * W;
+    const std::string where = "k = " + std::to_string(k.norm()) + ", u = " + std::to_string(u);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_LE(std::abs(sum(r, c) - ref(r, c)), 1e-14 * bound(r, c) + 1e-300)
+            << where << " (" << r << ", " << c << ")";
+  }
+}
+
 TEST(SuperHelixKinematics, StraightElementIsExact)
 {
   // k = 0 (the series at x = 0): g = u e0, E = I, G = u I exactly; the only non-zero
