@@ -40,20 +40,6 @@ constexpr int UnblockedLuMax = 360;
 // x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
 // allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
 HAIR_AVX2_CLONES
-bool finite(const Eigen::MatrixXd& m)
-{
-  const double* d = m.data();
-  const Eigen::Index n = m.size();
-  double acc[4] = {0, 0, 0, 0};
-  Eigen::Index i = 0;
-  for (; i + 4 <= n; i += 4)
-    for (int j = 0; j < 4; ++j)
-      acc[j] += d[i + j] - d[i + j];
-  for (; i < n; ++i)
-    acc[0] += d[i] - d[i];
-  return acc[0] + acc[1] + acc[2] + acc[3] == 0;
-}
-
 // [v]× m, column by column (cheaper than a 3 × 3 product with skew(v)).
 EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Eigen::Matrix3d& m)
 {
@@ -70,23 +56,31 @@ double uniformSigned(std::mt19937& g)
   return 2.0 * (static_cast<double>(g()) / 4294967296.0) - 1.0;
 }
 // The step's matrix a M − b C + c K_T and rhs += (M − b C) q̇, column by column (m × m,
-// column-major): one pass over the three matrices instead of three.
+// column-major): one pass over the three matrices instead of three. Returns whether every
+// entry of the matrix is finite (x − x is 0 for finite x and NaN otherwise; a, b > 0, so a
+// non-finite entry of M, C or K_T leaves one in the matrix).
 HAIR_AVX2_CLONES
-void formStepSystem(double* __restrict lhs, double* __restrict rhs, const double* __restrict M,
+bool formStepSystem(double* __restrict lhs, double* __restrict rhs, const double* __restrict M,
                     const double* __restrict C, const double* __restrict Kt,
                     const double* __restrict qd, int m, double a, double b, double c)
 {
+  double check = 0;
   for (int j = 0; j < m; ++j)
   {
     const double q = qd[j];
     const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
+    double colCheck = 0;
     for (int i = 0; i < m; ++i)
     {
       const double mij = M[o + i], cij = C[o + i];
-      lhs[o + i] = a * mij - b * cij + c * Kt[o + i];
+      const double l = a * mij - b * cij + c * Kt[o + i];
+      lhs[o + i] = l;
       rhs[i] += (mij - b * cij) * q;
+      colCheck += l - l;
     }
+    check += colCheck;
   }
+  return check == 0;
 }
 
 // dst(r, c) = Σ_{j < K} src(r, j) z(j, c) for r < rows and c < 3, column-major (src with
@@ -1395,8 +1389,10 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   Lhs.resize(m, m);
   Rhs = h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
   // Lhs and M q̇ − ½ h C q̇ in one pass over M, C and K_T.
-  formStepSystem(Lhs.data(), Rhs.data(), M.data(), C.data(), Kt.data(), Qdot.data(), m, airScale,
-                 0.5 * h, h * h);
+  if (!formStepSystem(Lhs.data(), Rhs.data(), M.data(), C.data(), Kt.data(), Qdot.data(), m,
+                      airScale, 0.5 * h, h * h))
+    return Status::Error("the step's matrix (mass matrix, velocity Jacobian or tension "
+                         "stiffness) is not finite. Check the root motion and forces");
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
   addContactJacobians(h);
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
@@ -1505,11 +1501,10 @@ Status SuperHelix::singleStep(double h)
   assemble();
   assembleVelocityJacobian();
   assembleTensionStiffness(h);
-  if (!finite(M) || !F.allFinite() || !finite(C))
-    return Status::Error(
-        where(t0, t1) +
-        "the mass matrix or generalized forces are not finite; the previous state is kept. "
-        "Check the root motion and forces.");
+  if (!F.allFinite())
+    return Status::Error(where(t0, t1) +
+                         "the generalized forces are not finite; the previous state is kept. "
+                         "Check the root motion and forces.");
   Eigen::VectorXd qdN;
   st = solve(h, qdN);
   if (!st)
