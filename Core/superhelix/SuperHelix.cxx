@@ -654,13 +654,18 @@ void SuperHelix::assemble()
       floc.noalias() += nd.w * (nd.J.transpose() * f);
       eF += nd.w * f;
       eT += nd.w * nd.r.cross(f);
-      Mloc.noalias() += wm * (nd.J.transpose() * nd.J);
-      X.noalias() += wm * (skew(nd.r) * nd.J);
+      // JᵀJ and r rᵀ are symmetric: their upper triangles here, mirrored after the loop.
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a <= b; ++a)
+        {
+          Mloc(a, b) += wm * nd.J.col(a).dot(nd.J.col(b));
+          eRR(a, b) += (wm * nd.r[a]) * nd.r[b];
+        }
+      X.noalias() += wm * crossCols(nd.r, nd.J);
       Y += wm * nd.J;
       eM += wm;
       eC += wm * nd.r;
       eR2 += wm * nd.r.squaredNorm(); // Θ = Σ wm (|r|² I − r rᵀ), completed below
-      eRR.noalias() += (wm * nd.r) * nd.r.transpose();
       // Rotary inertia of the cross-section, I(s) = F diag(ρI_p, ρI1, ρI2) Fᵀ, about the
       // frame's angular velocity, whose Jacobian is A_P (P < e) and F0 G(u) (own element):
       // the same tail-sum structure as the translational second moment Θ.
@@ -687,6 +692,8 @@ void SuperHelix::assemble()
         }
       }
     }
+    Mloc.triangularView<Eigen::StrictlyLower>() = Mloc.transpose();
+    eRR.triangularView<Eigen::StrictlyLower>() = eRR.transpose();
     {
       // P_ij = K^i D K^j (D = diag(ρI_p, ρI1, ρI2)); (K^i)ᵀ = (−1)^i K^i:
       //   Σ Bᵀ D B = Σ_ij sBB_ij (−1)^i P_ij,  Σ F D B = F0 Σ_ij sEB_ij P_ij,
