@@ -412,7 +412,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       el.count = static_cast<int>(next) - el.first;
     }
     // The element's end: the same sums at u = l, and the frame's rotation over the element.
-    const HelixCoefficients ch = helixCoefficients(omega * l);
+    const HelixCoefficients& ch = el.endCoefficients = helixCoefficients(omega * l);
     double f[7];
     helixFunctionValues(l, ch, f);
     helixEndRotation(k, kd, l, ch, he);
@@ -1170,7 +1170,7 @@ void SuperHelix::assembleVelocityJacobian()
     m.PhiEnd = phi(om, el.fgEnd, el.jkdEnd);
     m.fgEnd = el.fgEnd;
     m.akd = el.akd;
-    helixBilinear(kq, kd, Spec.elementLengths[e], D2W, &DGW);
+    helixBilinear(kq, kd, Spec.elementLengths[e], D2W, &DGW, &el.endCoefficients);
     m.Dal0 = crossCols(om, el.A) + 2 * el.F0 * DGW;
     m.Dac0 = 2 * (crossCols(om, el.jEnd) + el.F0 * D2W);
   }

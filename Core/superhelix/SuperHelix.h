@@ -222,6 +222,7 @@ private:
     Eigen::Matrix3d A, W; // tail Jacobian: J_iQ(s) = A_i × r(s) + W_i past the element
     Eigen::Matrix3d jEnd; // F0 ∂g/∂k at the end
     Eigen::Vector3d jkdEnd, fgEnd, akd;
+    HelixCoefficients endCoefficients; // helixCoefficients(Ω ℓ), for C's end terms
     int first, count;
   };
   struct Kinematics
