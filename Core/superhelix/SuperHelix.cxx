@@ -37,9 +37,6 @@ constexpr double ExplicitTensionDivisor = 64;
 // (N = 120: 1.9–3.1 ms a step against 4.0–4.2 ms); at 3N = 480 the two were within the noise.
 constexpr int UnblockedLuMax = 360;
 
-// x − x is 0 for finite x and NaN otherwise. A plain loop with four independent sums (Eigen's
-// allFinite on a dynamic matrix is not vectorized and was 4 % of a sub-step).
-HAIR_AVX2_CLONES
 // [v]× m, column by column (cheaper than a 3 × 3 product with skew(v)).
 EIGEN_STRONG_INLINE Eigen::Matrix3d crossCols(const Eigen::Vector3d& v, const Eigen::Matrix3d& m)
 {
