@@ -361,6 +361,16 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     }
     for (int i = 0; i < 5; ++i)
       Aw[i + 2].noalias() += Fr * basis.d2g[i];
+    // Fg, J, ṙ and r̈₀ at the point whose element functions are f.
+    auto pointAt = [&](const double(&f)[7], Eigen::Vector3d& Fg, Eigen::Matrix3d& J,
+                       Eigen::Vector3d& vel, Eigen::Vector3d& acc) __attribute__((always_inline))
+    {
+      Fg = f[0] * Gw[0] + f[1] * Gw[1] + f[2] * Gw[2];
+      J = f[1] * Jw[0] + f[2] * Jw[1] + f[3] * Jw[2] + f[4] * Jw[3];
+      vel = v + f[0] * Vw[0] + f[1] * Vw[1] + f[2] * Vw[2] + f[3] * Vw[3] + f[4] * Vw[4];
+      acc = ac + f[0] * Aw[0] + f[1] * Aw[1] + f[2] * Aw[2] + f[3] * Aw[3] + f[4] * Aw[4] +
+            f[5] * Aw[5] + f[6] * Aw[6];
+    };
     {
       const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxkxkd = k.cross(kxkd);
       Eigen::Vector3d omLocal;
@@ -380,12 +390,9 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.coefficients = helixCoefficients(omega * nd.u);
           double f[7];
           helixFunctionValues(nd.u, nd.coefficients, f);
-          const Eigen::Vector3d Fg = f[0] * Gw[0] + f[1] * Gw[1] + f[2] * Gw[2];
-          nd.J = f[1] * Jw[0] + f[2] * Jw[1] + f[3] * Jw[2] + f[4] * Jw[3];
+          Eigen::Vector3d Fg;
+          pointAt(f, Fg, nd.J, nd.v, nd.a0);
           nd.r = r + Fg;
-          nd.v = v + f[0] * Vw[0] + f[1] * Vw[1] + f[2] * Vw[2] + f[3] * Vw[3] + f[4] * Vw[4];
-          nd.a0 = ac + f[0] * Aw[0] + f[1] * Aw[1] + f[2] * Aw[2] + f[3] * Aw[3] + f[4] * Aw[4] +
-                  f[5] * Aw[5] + f[6] * Aw[6];
           nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
           nd.wind.setZero();
           nd.contact.setZero();
@@ -413,8 +420,9 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
     double f[7];
     helixFunctionValues(l, ch, f);
     helixEndRotation(k, kd, l, ch, he);
-    const Eigen::Vector3d Fg = f[0] * Gw[0] + f[1] * Gw[1] + f[2] * Gw[2];
-    const Eigen::Matrix3d FJ = f[1] * Jw[0] + f[2] * Jw[1] + f[3] * Jw[2] + f[4] * Jw[3];
+    Eigen::Vector3d Fg, vEnd, acEnd;
+    Eigen::Matrix3d FJ;
+    pointAt(f, Fg, FJ, vEnd, acEnd);
     const Eigen::Vector3d rEnd = r + Fg;
     el.A = Fr * he.G;
     el.jEnd = FJ;
@@ -424,10 +432,6 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       el.W.col(i) = FJ.col(i) - el.A.col(i).cross(rEnd);
     const Eigen::Vector3d Akd = el.A * kd;
     el.akd = Akd;
-    const Eigen::Vector3d vEnd =
-        v + f[0] * Vw[0] + f[1] * Vw[1] + f[2] * Vw[2] + f[3] * Vw[3] + f[4] * Vw[4];
-    const Eigen::Vector3d acEnd = ac + f[0] * Aw[0] + f[1] * Aw[1] + f[2] * Aw[2] + f[3] * Aw[3] +
-                                  f[4] * Aw[4] + f[5] * Aw[5] + f[6] * Aw[6];
     const Eigen::Vector3d alEnd = al + om.cross(Akd) + Fr * he.dGk;
     om += Akd;
     al = alEnd;
