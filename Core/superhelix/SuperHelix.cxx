@@ -394,7 +394,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           pointAt(f, Fg, nd.J, nd.v, nd.a0);
           nd.r = r + Fg;
           nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
-          nd.wind.setZero();
+          nd.wind = Spec.wind; // a wind field is evaluated by evaluateForces and reconstruct
           nd.contact.setZero();
           nd.hasK = nd.hasD = false;
           {
@@ -567,17 +567,19 @@ const std::vector<StrandSample>& SuperHelix::samples() const
 void SuperHelix::reconstruct()
 {
   kinematics(Q, Qdot, rootState(Time), Time, Cur);
+  // The air's velocity too, so that assemble() called after reconstruct() sees the wind that
+  // a step sees (before, it saw still air unless a step had run evaluateForces).
+  if (Spec.windField)
+    for (Node& nd : Cur.nodes)
+      nd.wind = Spec.windField(nd.r, Time);
   CurValid = true;
 }
 
 Status SuperHelix::evaluateForces(Kinematics& k, double time)
 {
-  if (Spec.windField)
+  if (Spec.windField) // a uniform wind is set by kinematics()
     for (Node& nd : k.nodes)
       nd.wind = Spec.windField(nd.r, time);
-  else
-    for (Node& nd : k.nodes)
-      nd.wind = Spec.wind;
   if (Contacts)
   {
     const std::vector<StrandSample>& smp = samples();

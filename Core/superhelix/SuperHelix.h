@@ -167,9 +167,9 @@ public:
   /// solve() uses the M, f, C and K_T assembled last for the current state. M, C and K_T
   /// are per-thread buffers: their accessors return the last ones assembled on the calling
   /// thread (for any strand), so read them before assembling another strand.
-  void reconstruct();                                 ///< kinematics at every sample (time())
-  void assemble();                                    ///< M and the explicit generalized force f
-  void assembleVelocityJacobian();                    ///< C = ∂f/∂q̇ (after assemble)
+  void reconstruct();              ///< kinematics and the air's velocity at every sample (time())
+  void assemble();                 ///< M and the explicit generalized force f
+  void assembleVelocityJacobian(); ///< C = ∂f/∂q̇ (after assemble)
   void assembleTensionStiffness(double h);            ///< K_T for a step h (after assemble)
   Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
   const Eigen::MatrixXd& massMatrix() const { return M; }

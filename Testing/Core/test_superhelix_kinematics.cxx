@@ -704,6 +704,48 @@ TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGram
   SuperHelix::GramMinSamples = saved;
 }
 
+TEST(SuperHelixKinematics, GeneralizedForceAfterReconstructIncludesTheWind)
+{
+  // f assembled after reconstruct() (without a step) must see the air a step sees: the part
+  // that a wind w adds is ν ∫ J(s)ᵀ w(r(s)) ds, here summed over the public samples with
+  // their weights and the public Jacobian, for a uniform wind and for a wind field. Bound:
+  // round-off of sums of a few hundred terms, 1e-10 of max |Δf| (the two sides reconstruct J
+  // by different kernels). Before the fix, f after reconstruct() ignored the wind.
+  const Curled c;
+  const Eigen::Vector3d uniform(0.7, -0.4, 1.1);
+  const AirVelocityField field = [](const Eigen::Vector3d& x, double t)
+  { return Eigen::Vector3d(std::sin(30 * x.x() + t), 0.5 * x.y() - 0.2, std::cos(20 * x.z())); };
+  for (int variant = 0; variant < 2; ++variant)
+  {
+    StrandSpec still = c.spec, windy = c.spec;
+    still.hair.airFriction = windy.hair.airFriction = 3e-5;
+    if (variant == 0)
+      windy.wind = uniform;
+    else
+      windy.windField = field;
+    SuperHelix a, b;
+    ASSERT_TRUE(a.initialize(still, 0.3).ok());
+    ASSERT_TRUE(b.initialize(windy, 0.3).ok());
+    ASSERT_TRUE(a.setState(c.q, c.qd).ok());
+    ASSERT_TRUE(b.setState(c.q, c.qd).ok());
+    a.reconstruct();
+    b.reconstruct();
+    a.assemble();
+    b.assemble();
+    const Eigen::VectorXd df = b.generalizedForce() - a.generalizedForce();
+    Eigen::VectorXd expected = Eigen::VectorXd::Zero(df.size());
+    for (const StrandSample& smp : b.samples())
+    {
+      const Eigen::Vector3d w = variant == 0 ? uniform : field(smp.position, 0.3);
+      expected += smp.weight * windy.hair.airFriction * (b.jacobian(smp.s).transpose() * w);
+    }
+    const double scale = expected.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0);
+    EXPECT_LT((df - expected).cwiseAbs().maxCoeff(), 1e-10 * scale)
+        << "variant " << variant << ": " << (df - expected).cwiseAbs().maxCoeff() / scale;
+  }
+}
+
 TEST(SuperHelixKinematics, TensionStiffnessIsItsDefinitionOnCurledStrands)
 {
   // K_T = ∫ T⁺(s) J_ω(s)ᵀ (I − n0 n0ᵀ) J_ω(s) ds (docs/super-helix.md), evaluated here from
