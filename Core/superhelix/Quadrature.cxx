@@ -71,7 +71,7 @@ QuadratureChooser::QuadratureChooser(double tolerance, int minPoints, int maxPoi
       MaxPoints(std::clamp(maxPoints, MinPoints, MaxGaussPoints))
 {
   for (int n = 1; n <= MaxGaussPoints; ++n)
-    ThetaMax[n] = std::exp((std::log(tolerance) - gaussRemainderLog(n)) / (2 * n));
+    InverseThetaMax[n] = 1 / std::exp((std::log(tolerance) - gaussRemainderLog(n)) / (2 * n));
 }
 
 ElementRule QuadratureChooser::choose(double turning) const
@@ -86,7 +86,7 @@ ElementRule QuadratureChooser::choose(double turning) const
   int bestSamples = std::numeric_limits<int>::max();
   for (int n = MinPoints; n <= MaxPoints; ++n)
   {
-    const double m = std::ceil(theta / ThetaMax[n]);
+    const double m = std::ceil(theta * InverseThetaMax[n]); // a product: no division per n
     const int intervals = m < 1 ? 1 : (m > 1e6 ? 1000000 : static_cast<int>(m));
     const long samples = static_cast<long>(n) * intervals;
     if (samples < bestSamples)
