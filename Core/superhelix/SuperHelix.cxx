@@ -20,6 +20,7 @@ thread_local Eigen::VectorXd SuperHelix::Rhs;
 thread_local std::vector<int> SuperHelix::Pivots;
 thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
 thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
+thread_local std::vector<Eigen::Vector3d> SuperHelix::Loads;
 
 namespace
 {
@@ -279,6 +280,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Initialized = true;
   kinematics(Q, Qdot, root, Time, Cur);
   CurValid = true;
+  WindsValid = ContactsSet = false;
   Energy.time = Time;
   Energy.kinetic = Cur.kinetic;
   Energy.gravitational = Cur.gravitational;
@@ -394,9 +396,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           pointAt(f, Fg, nd.J, nd.v, nd.a0);
           nd.r = r + Fg;
           nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
-          nd.wind = Spec.wind; // a wind field is evaluated by evaluateForces and reconstruct
-          nd.contact.setZero();
-          nd.hasK = nd.hasD = false;
+          nd.hasF = nd.hasK = nd.hasD = false;
           {
             const HelixCoefficients& c = nd.coefficients;
             const double u = nd.u;
@@ -567,19 +567,35 @@ const std::vector<StrandSample>& SuperHelix::samples() const
 void SuperHelix::reconstruct()
 {
   kinematics(Q, Qdot, rootState(Time), Time, Cur);
+  ContactsSet = false;
   // The air's velocity too, so that assemble() called after reconstruct() sees the wind that
-  // a step sees (before, it saw still air unless a step had run evaluateForces).
+  // a step sees.
+  WindsValid = false;
   if (Spec.windField)
-    for (Node& nd : Cur.nodes)
-      nd.wind = Spec.windField(nd.r, Time);
+    fillWinds(Time);
   CurValid = true;
+}
+
+void SuperHelix::fillWinds(double time)
+{
+  Winds.resize(Cur.nodes.size());
+  for (size_t j = 0; j < Cur.nodes.size(); ++j)
+    Winds[j] = Spec.windField(Cur.nodes[j].r, time);
+  WindsValid = true;
 }
 
 Status SuperHelix::evaluateForces(Kinematics& k, double time)
 {
-  if (Spec.windField) // a uniform wind is set by kinematics()
-    for (Node& nd : k.nodes)
-      nd.wind = Spec.windField(nd.r, time);
+  ContactsSet = false;
+  if (Spec.windField)
+  {
+    fillWinds(time);
+    for (size_t j = 0; j < k.nodes.size(); ++j)
+      if (!Winds[j].allFinite())
+        return Status::Error(
+            "the wind at s = " + std::to_string(Starts[k.nodes[j].element] + k.nodes[j].u) +
+            " m is not finite; check the wind field.");
+  }
   if (Contacts)
   {
     const std::vector<StrandSample>& smp = samples();
@@ -593,20 +609,20 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
     {
       Node& nd = k.nodes[i];
       const ContactResponse& c = ContactBuffer[i];
-      nd.contact = c.force;
+      nd.hasF = !c.force.isZero(0);
       nd.hasK = !c.stiffness.isZero(0);
       nd.hasD = !c.damping.isZero(0);
+      if (!c.force.allFinite())
+        return Status::Error(
+            "the contact force at s = " + std::to_string(Starts[nd.element] + nd.u) +
+            " m is not finite; check the contact hook.");
       if (!c.stiffness.allFinite() || !c.damping.allFinite())
         return Status::Error(
             "the contact stiffness or damping at s = " + std::to_string(Starts[nd.element] + nd.u) +
             " m is not finite; check the contact hook.");
     }
+    ContactsSet = true;
   }
-  for (const Node& nd : k.nodes)
-    if (!nd.wind.allFinite() || !nd.contact.allFinite())
-      return Status::Error(std::string("the ") + (nd.wind.allFinite() ? "contact force" : "wind") +
-                           " at s = " + std::to_string(Starts[nd.element] + nd.u) +
-                           " m is not finite; check the wind field or contact hook.");
   if (!Spec.tipForce.allFinite())
     return Status::Error("the tip force is not finite.");
   return Status::Ok();
@@ -617,11 +633,18 @@ void SuperHelix::assemble()
   const int n = elementCount();
   M.resize(3 * n, 3 * n); // per-thread buffer (no-op when the size is kept)
   Kinematics& k = Cur;
-  // Explicit force per unit length: gravity, drag on the rigid (root-carried) velocity
-  // against the wind (the q̇-part of drag is implicit), inertia of the root motion and the
-  // velocity-dependent terms, contacts.
-  const double nu = Spec.hair.airFriction;
+  if (Spec.windField && !WindsValid)
+    fillWinds(Time);
+  // The explicit force per unit length at each sample: gravity, drag on the rigid
+  // (root-carried) velocity against the wind, the inertia of the root motion and the
+  // velocity-dependent terms, contacts (the q̇-part of drag is implicit). Kept in Loads for
+  // assembleTensionStiffness. Thread-local buffers are reached once, not per sample.
+  Loads.resize(k.nodes.size());
+  Eigen::Vector3d* const loads = Loads.data();
+  const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
+  const ContactResponse* const contacts = ContactsSet ? ContactBuffer.data() : nullptr;
   const Eigen::Vector3d gravity = RhoS * Spec.gravity;
+  const double nu = Spec.hair.airFriction;
   // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
   // acts beyond every element: J(L)ᵀP = A_eᵀ (r(L) × P) + W_eᵀ P for every e.
   Eigen::Vector3d tailF = Spec.tipForce, tailT = k.tip.r0.cross(Spec.tipForce);
@@ -652,8 +675,10 @@ void SuperHelix::assemble()
     {
       Node& nd = k.nodes[j];
       const double wm = nd.w * RhoS;
-      const Eigen::Vector3d f = gravity - nu * (nd.v0 - nd.wind) - RhoS * nd.a0 + nd.contact;
-      nd.load = f;
+      Eigen::Vector3d f = gravity - nu * (nd.v0 - (winds ? winds[j] : Spec.wind)) - RhoS * nd.a0;
+      if (contacts && nd.hasF)
+        f += contacts[j].force;
+      loads[j] = f;
       floc.noalias() += nd.w * (nd.J.transpose() * f);
       eF += nd.w * f;
       eT += nd.w * nd.r.cross(f);
@@ -780,6 +805,7 @@ void SuperHelix::assembleTensionStiffness(double h)
   Y.resize(n);
   if (At.rows() < 3 * n)
     At.resize(3 * n, 3);
+  const Eigen::Vector3d* const loads = Loads.data(); // set by assemble()
   Eigen::Vector3d tailF = Spec.tipForce;
   Eigen::Matrix3d tailP = Eigen::Matrix3d::Zero(); // ∫ T⁺ (I − n0 n0ᵀ) beyond the element
   for (int e = n - 1; e >= 0; --e)
@@ -811,10 +837,11 @@ void SuperHelix::assembleTensionStiffness(double h)
     for (int j = el.first + el.count - 1; j >= el.first; --j)
     {
       const Node& nd = k.nodes[j];
-      const Eigen::Vector3d wf = nd.w * nd.load;
+      const Eigen::Vector3d& load = loads[j];
+      const Eigen::Vector3d wf = nd.w * load;
       // Tail force at the sample: the samples beyond it, and its own load over the rest of
       // the length to the element's end (exact for a uniform load).
-      const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * nd.load;
+      const Eigen::Vector3d atSample = tailF + (l - nd.u - beyond) * load;
       tailF += wf;
       beyond += nd.w;
       const HelixCoefficients& hc = nd.coefficients;
@@ -1505,6 +1532,12 @@ Status SuperHelix::singleStep(double h)
   const double t0 = Time, t1 = Time + h;
   if (!CurValid)
     reconstruct();
+  // The contact response in ContactBuffer is this strand's only until the step ends.
+  struct EndOfStep
+  {
+    bool& contactsSet;
+    ~EndOfStep() { contactsSet = false; }
+  } endOfStep{ContactsSet};
   Status st = evaluateForces(Cur, t0);
   if (!st)
     return Status::Error(where(t0, t1) + st.message());
@@ -1550,6 +1583,8 @@ Status SuperHelix::singleStep(double h)
   {
     const Eigen::VectorXd qdd = (qdN - Qdot) / h;
     const double nu = Spec.hair.airFriction;
+    const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
+    const ContactResponse* const contacts = ContactsSet ? ContactBuffer.data() : nullptr;
     Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
     Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sw = Eigen::Vector3d::Zero();
     for (int e = 0; e < elementCount(); ++e)
@@ -1561,15 +1596,21 @@ Status SuperHelix::singleStep(double h)
         const Node& nd = Cur.nodes[j];
         const Eigen::Vector3d vt = nd.v0 + pa.cross(nd.r) + pw + nd.J * x;
         const Eigen::Vector3d rdd = nd.a0 + sa.cross(nd.r) + sw + nd.J * y;
-        const Eigen::Vector3d rel = vt - nd.wind;
+        const Eigen::Vector3d& wind = winds ? winds[j] : Spec.wind;
+        const Eigen::Vector3d rel = vt - wind;
         flow.airDissipated += h * nd.w * nu * rel.squaredNorm();
-        flow.windWork -= h * nd.w * nu * rel.dot(nd.wind);
+        flow.windWork -= h * nd.w * nu * rel.dot(wind);
         // The contact force that acted: its implicit linearization (see ContactResponse).
-        Eigen::Vector3d fc = nd.contact;
-        if (nd.hasK)
-          fc -= h * (ContactBuffer[j].stiffness * vt);
-        if (nd.hasD)
-          fc -= ContactBuffer[j].damping * (vt - nd.v);
+        Eigen::Vector3d fc = Eigen::Vector3d::Zero();
+        if (contacts)
+        {
+          if (nd.hasF)
+            fc = contacts[j].force;
+          if (nd.hasK)
+            fc -= h * (contacts[j].stiffness * vt);
+          if (nd.hasD)
+            fc -= contacts[j].damping * (vt - nd.v);
+        }
         flow.contactWork += h * nd.w * fc.dot(vt);
         const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
         flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
@@ -1609,6 +1650,7 @@ Status SuperHelix::singleStep(double h)
   Time = t1;
   std::swap(Cur, next);
   CurValid = true;
+  WindsValid = false; // the wind field at the new samples is evaluated when needed
   Energy.time = t1;
   Energy.kinetic = Cur.kinetic;
   Energy.gravitational = Cur.gravitational;

@@ -200,21 +200,22 @@ public:
 
 private:
   // One quadrature sample of the step, streamed through several times per step. Aligned to
-  // cache lines (384 bytes, six lines): at 328 bytes, one step at N = 10 was 1.5–2.6 % slower
-  // on every preset, and at 352 (32-byte aligned) 1000 guides took 38.7 ms a frame against
-  // 37.4 (alternated runs, docs/benchmarks-superhelix.md, ninth revision).
+  // cache lines: 256 bytes, four lines (at 328 bytes unaligned, one step at N = 10 was
+  // 1.5–2.6 % slower than at 384 on every preset; docs/benchmarks-superhelix.md, ninth
+  // revision). What only some strands have stays out of it: the wind of a wind field
+  // (Winds), the contact response (ContactBuffer, same index), the load per unit length
+  // (Loads, per thread).
   struct alignas(64) Node
   {
     int element;
+    // The contact's force, −∂f/∂x, −∂f/∂v are non-zero (set by evaluateForces in a step).
+    bool hasF = false, hasK = false, hasD = false;
     double u, w;
-    Eigen::Vector3d r, v, v0, a0, wind, contact;
-    Eigen::Vector3d load; // explicit force per unit length (set by assemble())
-    // The contact's −∂f/∂x, −∂f/∂v are non-zero (they stay in ContactBuffer, same index;
-    // kept out of the sample, which the step streams through several times).
-    bool hasK = false, hasD = false;
+    Eigen::Vector3d r, v, v0, a0;
     Eigen::Matrix3d J;
     HelixCoefficients coefficients;
   };
+  static_assert(sizeof(Node) == 256, "a sample is four cache lines");
   struct Element
   {
     Eigen::Matrix3d F0; // frame at the start
@@ -259,6 +260,15 @@ private:
 
   Kinematics Cur;
   bool CurValid = false;
+  // The wind field at Cur's samples (only with StrandSpec::windField; filled by a step's
+  // evaluateForces, by reconstruct() and, when stale, by assemble()).
+  std::vector<Eigen::Vector3d> Winds;
+  bool WindsValid = false;
+  void fillWinds(double time);
+  // ContactBuffer holds this strand's contact response at Cur: true from a step's
+  // evaluateForces to the end of that step.
+  bool ContactsSet = false;
+
   mutable std::vector<StrandSample> Samples;
   Eigen::VectorXd F;
   // Rebuilt by every step and used only inside it: one copy per thread, not per strand.
@@ -270,6 +280,9 @@ private:
   static thread_local std::vector<int> Pivots; // row interchanges of the unblocked LU (small N)
   static thread_local Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
   static thread_local std::vector<ContactResponse> ContactBuffer;
+  // The explicit load per unit length at each sample, set by assemble() for
+  // assembleTensionStiffness (same index as the samples).
+  static thread_local std::vector<Eigen::Vector3d> Loads;
   void addContactJacobians(double h); // implicit contact terms into Lhs and Rhs
 };
 
