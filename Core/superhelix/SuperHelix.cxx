@@ -848,10 +848,11 @@ void SuperHelix::assembleTensionStiffness(double h)
       double ce[3], dg[3];
       helixFrameCoefficients(nd.u, hc, ce, dg);
       const Eigen::Vector3d c(ce[0], ce[1], ce[2]), d(dg[0], dg[1], dg[2]);
+      // T⁺ without a branch: the sign of T changes along a moving strand, and a mispredicted
+      // branch costs more than the products of a sample in compression (which add zeros).
+      // A NaN tension counts as none, as before; F's check stops such a step.
       const double T = (W * c).dot(atSample) - explicitTension;
-      if (!(T > 0))
-        continue;
-      const double wT = nd.w * T;
+      const double wT = nd.w * (T > 0 ? T : 0.0);
       const Eigen::Vector3d wd = wT * d;
       sw += wT;
       for (int i = 0; i < 3; ++i)
