@@ -689,7 +689,18 @@ void SuperHelix::assemble()
           Mloc(a, b) += wm * nd.J.col(a).dot(nd.J.col(b));
           eRR(a, b) += (wm * nd.r[a]) * nd.r[b];
         }
-      X.noalias() += wm * crossCols(nd.r, nd.J);
+      {
+        // X += [wm r]× J, written out: crossCols stayed a call here (3 % of a curly step's
+        // time), and forcing it inline everywhere made every preset 3–5 % slower.
+        const double r0 = wm * nd.r[0], r1 = wm * nd.r[1], r2 = wm * nd.r[2];
+        for (int c = 0; c < 3; ++c)
+        {
+          const double j0 = nd.J(0, c), j1 = nd.J(1, c), j2 = nd.J(2, c);
+          X(0, c) += r1 * j2 - r2 * j1;
+          X(1, c) += r2 * j0 - r0 * j2;
+          X(2, c) += r0 * j1 - r1 * j0;
+        }
+      }
       Y += wm * nd.J;
       eM += wm;
       eC += wm * nd.r;
