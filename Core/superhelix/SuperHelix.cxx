@@ -1446,7 +1446,8 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
     return Status::Error("the step's matrix (mass matrix, velocity Jacobian or tension "
                          "stiffness) is not finite. Check the root motion and forces");
   Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
-  addContactJacobians(h);
+  if (ContactsSet) // else no sample has a contact stiffness or damping: skip the pass
+    addContactJacobians(h);
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
   {
