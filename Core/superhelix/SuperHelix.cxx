@@ -21,6 +21,13 @@ thread_local std::vector<int> SuperHelix::Pivots;
 thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
 thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
 thread_local std::vector<Eigen::Vector3d> SuperHelix::Loads;
+thread_local std::uint64_t SuperHelix::LoadsId = 0;
+
+void SuperHelix::newCurId()
+{
+  static std::atomic<std::uint64_t> counter{0};
+  CurId = ++counter;
+}
 
 namespace
 {
@@ -279,6 +286,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   F.resize(3 * n);
   Initialized = true;
   kinematics(Q, Qdot, root, Time, Cur);
+  newCurId();
   CurValid = true;
   WindsValid = ContactsSet = false;
   Energy.time = Time;
@@ -567,6 +575,7 @@ const std::vector<StrandSample>& SuperHelix::samples() const
 void SuperHelix::reconstruct()
 {
   kinematics(Q, Qdot, rootState(Time), Time, Cur);
+  newCurId();
   ContactsSet = false;
   // The air's velocity too, so that assemble() called after reconstruct() sees the wind that
   // a step sees.
@@ -640,6 +649,7 @@ void SuperHelix::assemble()
   // velocity-dependent terms, contacts (the q̇-part of drag is implicit). Kept in Loads for
   // assembleTensionStiffness. Thread-local buffers are reached once, not per sample.
   Loads.resize(k.nodes.size());
+  LoadsId = CurId;
   Eigen::Vector3d* const loads = Loads.data();
   const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
   const ContactResponse* const contacts = ContactsSet ? ContactBuffer.data() : nullptr;
@@ -819,6 +829,8 @@ void SuperHelix::assembleTensionStiffness(double h)
   Y.resize(n);
   if (At.rows() < 3 * n)
     At.resize(3 * n, 3);
+  if (LoadsId != CurId) // assemble() ran for another strand or state on this thread since
+    assemble();
   const Eigen::Vector3d* const loads = Loads.data(); // set by assemble()
   Eigen::Vector3d tailF = Spec.tipForce;
   Eigen::Matrix3d tailP = Eigen::Matrix3d::Zero(); // ∫ T⁺ (I − n0 n0ᵀ) beyond the element
@@ -1665,6 +1677,7 @@ Status SuperHelix::singleStep(double h)
   Qdot = qdN;
   Time = t1;
   std::swap(Cur, next);
+  newCurId();
   CurValid = true;
   WindsValid = false; // the wind field at the new samples is evaluated when needed
   Energy.time = t1;

@@ -283,6 +283,11 @@ private:
   // The explicit load per unit length at each sample, set by assemble() for
   // assembleTensionStiffness (same index as the samples).
   static thread_local std::vector<Eigen::Vector3d> Loads;
+  // Which reconstruction Loads belong to: CurId changes whenever Cur does (a process-wide
+  // counter), and assembleTensionStiffness re-assembles when Loads are another's.
+  static thread_local std::uint64_t LoadsId;
+  std::uint64_t CurId = 0;
+  void newCurId();
   void addContactJacobians(double h); // implicit contact terms into Lhs and Rhs
 };
 

@@ -746,6 +746,31 @@ TEST(SuperHelixKinematics, GeneralizedForceAfterReconstructIncludesTheWind)
   }
 }
 
+TEST(SuperHelixKinematics, TensionStiffnessAfterAnotherStrandsAssemblyIsItsOwn)
+{
+  // The loads per sample that K_T needs are kept per thread by assemble(). Assembling
+  // another strand in between (here a straighter one with fewer samples) must not leave K_T
+  // reading the other strand's loads: it must equal the K_T of the documented order,
+  // exactly (the same sums in the same order).
+  StrandSpec curly = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType::Curly));
+  StrandSpec smooth = StrandSpec::uniform(0.3, 3, HairParameters::preset(HairType::Smooth));
+  smooth.gravity = Eigen::Vector3d(2, -20, 0); // other loads than a's
+  SuperHelix a, b;
+  ASSERT_TRUE(a.initialize(curly).ok());
+  ASSERT_TRUE(b.initialize(smooth).ok());
+  ASSERT_GT(a.samples().size(), b.samples().size());
+  const double h = 1.0 / 30;
+  a.reconstruct();
+  a.assemble();
+  a.assembleTensionStiffness(h);
+  const Eigen::MatrixXd expected = a.tensionStiffness();
+  ASSERT_GT(expected.cwiseAbs().maxCoeff(), 0); // a hanging strand is in tension
+  a.assemble();
+  b.assemble();
+  a.assembleTensionStiffness(h);
+  EXPECT_EQ((a.tensionStiffness() - expected).cwiseAbs().maxCoeff(), 0);
+}
+
 TEST(SuperHelixKinematics, TensionStiffnessIsItsDefinitionOnCurledStrands)
 {
   // K_T = ∫ T⁺(s) J_ω(s)ᵀ (I − n0 n0ᵀ) J_ω(s) ds (docs/super-helix.md), evaluated here from
