@@ -1131,11 +1131,6 @@ void SuperHelix::assembleVelocityJacobian()
     // The element's own k̇-dependence: moments of δa0 (own samples), and (δα, δa) at its end.
     Eigen::Matrix3d ownR, ownF, ownM, Dal0, Dac0;
   };
-  // 3 × 9 maps acting on a state (δa, δα, δω), stored as three 3 × 3 blocks.
-  struct Map39
-  {
-    Eigen::Matrix3d a, l, w;
-  };
   thread_local std::vector<Maps> maps;
   maps.resize(n);
   // Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]× = −2 Fg ωᵀ + ω Fgᵀ + (ω·Fg) I − 2 [J k̇]×
@@ -1259,8 +1254,10 @@ void SuperHelix::assembleVelocityJacobian()
     B.block<3, 3>(3 * p, 3) = k.elements[p].W.transpose();
   }
   const Eigen::Index ldc = C.rows(), ldg = Gam.rows();
-  Map39 lm{Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
-  Map39 lf = lm; // Λ_{qe+1}: tail torque rows lm, tail force rows lf
+  // Λ_{qe+1} as one 6 × 9 matrix: rows 0–2 the tail torque, 3–5 the tail force; columns
+  // (δa, δα, δω). Six-row products vectorize in three packets, where the eighteen 3 × 3
+  // products of the same sums (the tenth revision's code) left a row over in each.
+  Eigen::Matrix<double, 6, 9> L = Eigen::Matrix<double, 6, 9>::Zero();
   for (int qe = n - 1; qe >= 0; --qe)
   {
     const Maps& mq = maps[qe];
@@ -1270,49 +1267,44 @@ void SuperHelix::assembleVelocityJacobian()
     S.topRows<3>() = mq.Dac0;
     S.middleRows<3>(3) = mq.Dal0;
     S.bottomRows<3>() = eq.A;
-    const auto Dac = S.topRows<3>(), Dal = S.middleRows<3>(3), Dw = S.bottomRows<3>();
-    // Tail torque and force from the elements past qe.
-    Eigen::Matrix3d HM, HF;
-    HM.noalias() = lm.a * Dac + lm.l * Dal + lm.w * Dw;
-    HF.noalias() = lf.a * Dac + lf.l * Dal + lf.w * Dw;
+    // Tail torque and force from the elements past qe, [HM; HF] = Λ S.
+    Eigen::Matrix<double, 6, 3> H;
+    H.noalias() = L * S;
+    Eigen::Matrix<double, 3, 6> Bq; // [A_qeᵀ W_qeᵀ]
+    Bq.leftCols<3>() = eq.A.transpose();
+    Bq.rightCols<3>() = eq.W.transpose();
     Eigen::Matrix3d b = mq.ownR;
-    b.noalias() += eq.A.transpose() * HM + eq.W.transpose() * HF;
+    b.noalias() += Bq * H;
     C.block<3, 3>(3 * qe, 3 * qe) = -RhoS * b;
     // Rows p < qe: [TM; TF], the rigid tail's torque and force.
     Eigen::Matrix<double, 6, 3> T;
-    T.topRows<3>() = -RhoS * (mq.ownM + HM);
-    T.bottomRows<3>() = -RhoS * (mq.ownF + HF);
+    T.topRows<3>() = -RhoS * (mq.ownM + H.topRows<3>());
+    T.bottomRows<3>() = -RhoS * (mq.ownF + H.bottomRows<3>());
     double* const col = C.data() + 3 * qe * ldc;
     stackedProduct<6, false>(col, nullptr, ldc, B.data(), B.rows(), T.data(), 3 * qe);
     // Rows p > qe: Γ_{qe+1} S; then Γ_{qe+1} Prop_qe (the rows of Γ_qe past qe).
     lowerAndPropagate(col + 3 * qe + 3, ldc, Gam.data() + 3 * qe + 3, ldg, S.data(),
                       mq.PhiEnd.data(), mq.akd.data(), mq.fgEnd.data(), 3 * (n - qe - 1));
     // Λ_{qe+1} Prop_qe, block columns (δa, δα, δω): w += a Φ_end − l [A k̇]×, l −= a [Fg_end]×
-    // (w first: it uses the old l); X [v]× = −([v]× Xᵀ)ᵀ by column cross products.
-    auto prop = [&mq](Map39& x)
-    {
-      x.w.noalias() += x.a * mq.PhiEnd;
-      x.w.noalias() += crossCols(mq.akd, x.l.transpose()).transpose();   // − l [A k̇]×
-      x.l.noalias() += crossCols(mq.fgEnd, x.a.transpose()).transpose(); // − a [Fg_end]×
-    };
-    prop(lm);
-    prop(lf);
+    // (w first: it uses the old l).
+    L.middleCols<3>(6).noalias() += L.leftCols<3>() * mq.PhiEnd;
+    L.middleCols<3>(6).noalias() -= L.middleCols<3>(3) * skew(mq.akd);
+    L.middleCols<3>(3).noalias() -= L.leftCols<3>() * skew(mq.fgEnd);
     // G_qe = −ρS (P_qe + [A_qeᵀ W_qeᵀ] Λ_{qe+1} Prop_qe): row qe of Γ_qe.
-    Eigen::Matrix3d ga = mq.Pc, gl = mq.Pl, gw = mq.Po;
-    ga.noalias() += eq.A.transpose() * lm.a + eq.W.transpose() * lf.a;
-    gl.noalias() += eq.A.transpose() * lm.l + eq.W.transpose() * lf.l;
-    gw.noalias() += eq.A.transpose() * lm.w + eq.W.transpose() * lf.w;
-    Gam.block<3, 3>(3 * qe, 0) = -RhoS * ga;
-    Gam.block<3, 3>(3 * qe, 3) = -RhoS * gl;
-    Gam.block<3, 3>(3 * qe, 6) = -RhoS * gw;
+    Eigen::Matrix<double, 3, 9> G;
+    G.leftCols<3>() = mq.Pc;
+    G.middleCols<3>(3) = mq.Pl;
+    G.rightCols<3>() = mq.Po;
+    G.noalias() += Bq * L;
+    Gam.block<3, 9>(3 * qe, 0) = -RhoS * G;
     // Λ_qe = Mm_qe + Λ_{qe+1} Prop_qe: tail torque [[Σ w r]×, Tl, To], force [Σ w I, −[Σ w Fg]×,
     // So].
-    lm.a += skew(mq.sumR);
-    lm.l += mq.Tl;
-    lm.w += mq.To;
-    lf.a.diagonal().array() += mq.Sc;
-    lf.l -= skew(mq.sumFg);
-    lf.w += mq.So;
+    L.block<3, 3>(0, 0) += skew(mq.sumR);
+    L.block<3, 3>(0, 3) += mq.Tl;
+    L.block<3, 3>(0, 6) += mq.To;
+    L.block<3, 3>(3, 0).diagonal().array() += mq.Sc;
+    L.block<3, 3>(3, 3) -= skew(mq.sumFg);
+    L.block<3, 3>(3, 6) += mq.So;
   }
 }
 
