@@ -598,7 +598,8 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
   ContactsSet = false;
   if (Spec.windField)
   {
-    fillWinds(time);
+    if (!WindsValid) // reconstruct() has evaluated it at these samples and this time
+      fillWinds(time);
     for (size_t j = 0; j < k.nodes.size(); ++j)
       if (!Winds[j].allFinite())
         return Status::Error(
@@ -1270,9 +1271,7 @@ void SuperHelix::assembleVelocityJacobian()
     // Tail torque and force from the elements past qe, [HM; HF] = Λ S.
     Eigen::Matrix<double, 6, 3> H;
     H.noalias() = L * S;
-    Eigen::Matrix<double, 3, 6> Bq; // [A_qeᵀ W_qeᵀ]
-    Bq.leftCols<3>() = eq.A.transpose();
-    Bq.rightCols<3>() = eq.W.transpose();
+    const Eigen::Matrix<double, 3, 6> Bq = B.block<3, 6>(3 * qe, 0); // [A_qeᵀ W_qeᵀ]
     Eigen::Matrix3d b = mq.ownR;
     b.noalias() += Bq * H;
     C.block<3, 3>(3 * qe, 3 * qe) = -RhoS * b;
