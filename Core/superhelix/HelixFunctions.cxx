@@ -10,7 +10,7 @@ namespace
 {
 // Below this |x| the series is used; above it the closed forms lose at most ~1e-13 to
 // cancellation.
-constexpr double SeriesLimit = 1.5;
+constexpr double SeriesLimit = HelixSeriesLimit;
 
 // Taylor coefficients in y = x² of the seven functions, in the order of HelixCoefficients;
 // row m holds the coefficients of y^m, lane 7 is zero padding so that a row is four SSE2
@@ -69,6 +69,23 @@ inline HelixCoefficients series(double y)
   return h;
 }
 
+// The closed forms for x >= SeriesLimit from s = sin x and c = cos x.
+[[gnu::always_inline]] inline HelixCoefficients closedForm(double x, double s, double c)
+{
+  // (One reciprocal and multiplications instead of the seven divisions: no fewer
+  // instructions, no measurable time next to sincos, and ~1 ulp less accurate.)
+  const double x2 = x * x, x3 = x2 * x, x4 = x2 * x2;
+  HelixCoefficients h;
+  h.phi0 = s / x;
+  h.phi1 = (1 - c) / x2;
+  h.phi2 = (x - s) / x3;
+  h.psi1 = (x * s - 2 + 2 * c) / x4;
+  h.psi2 = (3 * s - 2 * x - x * c) / (x4 * x);
+  h.chi1 = (x2 * c - 5 * x * s + 8 - 8 * c) / (x4 * x2);
+  h.chi2 = (8 * x + 7 * x * c + x2 * s - 15 * s) / (x4 * x3);
+  return h;
+}
+
 // helixCoefficients, forced inline into helixPoint and helixBilinear (GCC does not inline it
 // by itself, and the call spilled their registers around it: ~14 instructions per call).
 [[gnu::always_inline]] inline HelixCoefficients coefficients(double x)
@@ -91,30 +108,21 @@ inline HelixCoefficients series(double y)
     return series<11>(y);
   }
   double s, c;
-#if defined(__GLIBC__)
-  ::sincos(x, &s, &c); // one call for both; glibc's sin and cos give the same values
-#else
-  s = std::sin(x);
-  c = std::cos(x);
-#endif
-  // (One reciprocal and multiplications instead of the seven divisions: no fewer
-  // instructions, no measurable time next to sincos, and ~1 ulp less accurate.)
-  const double x2 = x * x, x3 = x2 * x, x4 = x2 * x2;
-  HelixCoefficients h;
-  h.phi0 = s / x;
-  h.phi1 = (1 - c) / x2;
-  h.phi2 = (x - s) / x3;
-  h.psi1 = (x * s - 2 + 2 * c) / x4;
-  h.psi2 = (3 * s - 2 * x - x * c) / (x4 * x);
-  h.chi1 = (x2 * c - 5 * x * s + 8 - 8 * c) / (x4 * x2);
-  h.chi2 = (8 * x + 7 * x * c + x2 * s - 15 * s) / (x4 * x3);
-  return h;
+  sinCos(x, s, c);
+  return closedForm(x, s, c);
 }
 } // namespace
 
 HelixCoefficients helixCoefficients(double x)
 {
   return coefficients(x);
+}
+
+HelixCoefficients helixCoefficients(double x, double s, double c)
+{
+  if (x < HelixSeriesLimit)
+    return coefficients(x);
+  return closedForm(x, s, c);
 }
 
 void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixPoint& out,

@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
+
 namespace hair
 {
 
@@ -18,6 +20,26 @@ struct HelixCoefficients
 };
 
 HelixCoefficients helixCoefficients(double x);
+
+/// Below this x the coefficients are Taylor series; from it on, closed forms in sin x, cos x.
+constexpr double HelixSeriesLimit = 1.5;
+
+/// helixCoefficients(x) for x >= 0 whose s = sin x and c = cos x are known (e.g. from an
+/// angle difference): the same closed forms. Below HelixSeriesLimit the series is used and
+/// s, c are not read.
+HelixCoefficients helixCoefficients(double x, double s, double c);
+
+/// sin x and cos x in one call where the C library has one (glibc's sincos gives the same
+/// values as sin and cos).
+inline void sinCos(double x, double& s, double& c)
+{
+#if defined(__GLIBC__)
+  ::sincos(x, &s, &c);
+#else
+  s = std::sin(x);
+  c = std::cos(x);
+#endif
+}
 
 /// A point at distance u from the start of an element of curvature k (in the element's
 /// start frame), moving with curvature rate kd (k̈ = 0).

@@ -96,6 +96,44 @@ TEST(SuperHelixKinematics, SeriesAndClosedFormsAgreeAtTheSwitch)
   EXPECT_DOUBLE_EQ(z.chi2, 1.0 / 630);
 }
 
+TEST(SuperHelixKinematics, CoefficientsFromAKnownSineAndCosineMatchTheDirectOnes)
+{
+  // The reconstruction takes sin and cos at the farther node of each Gauss pair from the
+  // angle difference X − x (X = Ω (a + b) on the interval [a, b]). Those differ from a
+  // direct sincos by the products' rounding (|sX c| + |cX s| <= 1: <= 3.3e-16) plus each
+  // sincos's half ulp and the rounding of the angle X − x itself (half an ulp of it), so
+  // δ = 4.4e-16 (1 + x); each coefficient moves by δ times the weights of s and c in its
+  // closed form over its power of x, plus a few ulps of its own rounding.
+  for (double X = 3.0; X < 60.0; X *= 1.13)
+    for (double t = 0.02; t < 0.5; t += 0.037)
+    {
+      const double x = t * X, xm = X - x;
+      double sX, cX, s, c;
+      sinCos(X, sX, cX);
+      sinCos(x, s, c);
+      const HelixCoefficients a = helixCoefficients(xm, sX * c - cX * s, cX * c + sX * s);
+      const HelixCoefficients b = helixCoefficients(xm);
+      const double d = 4.4e-16 * (1 + xm), y = xm, y2 = y * y, y4 = y2 * y2;
+      auto tol = [&](double value, double bound) { return bound + 4e-16 * std::abs(value); };
+      EXPECT_NEAR(a.phi0, b.phi0, tol(b.phi0, d / y)) << "x = " << xm;
+      EXPECT_NEAR(a.phi1, b.phi1, tol(b.phi1, d / y2)) << "x = " << xm;
+      EXPECT_NEAR(a.phi2, b.phi2, tol(b.phi2, d / (y2 * y))) << "x = " << xm;
+      EXPECT_NEAR(a.psi1, b.psi1, tol(b.psi1, d * (y + 2) / y4)) << "x = " << xm;
+      EXPECT_NEAR(a.psi2, b.psi2, tol(b.psi2, d * (3 + y) / (y4 * y))) << "x = " << xm;
+      EXPECT_NEAR(a.chi1, b.chi1, tol(b.chi1, d * (y2 + 5 * y + 8) / (y4 * y2))) << "x = " << xm;
+      EXPECT_NEAR(a.chi2, b.chi2, tol(b.chi2, d * (7 * y + y2 + 15) / (y4 * y2 * y)))
+          << "x = " << xm;
+    }
+  // Below the series limit the sine and cosine are not read.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (double x : {0.0, 0.3, 1.0, 1.49})
+  {
+    const HelixCoefficients a = helixCoefficients(x, nan, nan), b = helixCoefficients(x);
+    EXPECT_EQ(a.phi0, b.phi0);
+    EXPECT_EQ(a.chi2, b.chi2);
+  }
+}
+
 TEST(SuperHelixKinematics, SeriesBandsGiveTheFullSeriesToRoundOff)
 {
   // Below 1.5 the coefficients are Taylor series with fewer terms for smaller |x| (8, 10, 11
