@@ -8,9 +8,8 @@ namespace hair
 
 namespace
 {
-// Below this |x| the series is used; above it the closed forms lose at most ~1e-13 to
-// cancellation.
-constexpr double SeriesLimit = HelixSeriesLimit;
+// Below HelixSeriesLimit (1.5) the series is used; above it the closed forms lose at most
+// ~1e-13 to cancellation.
 
 // Taylor coefficients in y = x² of the seven functions, in the order of HelixCoefficients;
 // row m holds the coefficients of y^m, lane 7 is zero padding so that a row is four SSE2
@@ -69,7 +68,7 @@ inline HelixCoefficients series(double y)
   return h;
 }
 
-// The closed forms for x >= SeriesLimit from s = sin x and c = cos x.
+// The closed forms for x >= HelixSeriesLimit from s = sin x and c = cos x.
 [[gnu::always_inline]] inline HelixCoefficients closedForm(double x, double s, double c)
 {
   // (One reciprocal and multiplications instead of the seven divisions: no fewer
@@ -91,7 +90,7 @@ inline HelixCoefficients series(double y)
 [[gnu::always_inline]] inline HelixCoefficients coefficients(double x)
 {
   x = std::abs(x);
-  if (x < SeriesLimit)
+  if (x < HelixSeriesLimit)
   {
     // Every series alternates with terms decreasing in magnitude for y = x² < 2.25, so the
     // truncation error is below the first omitted term. Relative to the function's value

@@ -447,7 +447,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           nd.r = r + Fg;
           nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
           nd.hasF = nd.hasK = nd.hasD = false;
-          // The cross-section's angular velocity in its own frame (see omO below).
+          // The cross-section's angular velocity in its own frame (see omO above).
           const Eigen::Vector3d omLocal = omO[0] + f[0] * omO[1] +
                                           (nd.u * nd.coefficients.phi0) * omO[2] + f[1] * omO[3] +
                                           f[2] * omO[4];
