@@ -568,7 +568,8 @@ TEST(SuperHelixKinematics, KineticEnergyOnAFixedRootIsHalfQdotMQdot)
   // sums (centreline and cross-section rotation, the latter in the linear form of E(u)ᵀ
   // (F0ᵀ ω + G(u) k̇)) is ½ q̇ᵀ M q̇ with the M of the same samples: equal to round-off
   // (1e-12 relative: a few hundred products of positive terms). Curled elements from 0 to
-  // ~20 rad of turning (the series, one-interval and several-interval rules), a thick fibre
+  // ~20 rad of turning (the series and the closed forms, from a sincos and from the mirror
+  // pair's angle difference; all one-interval rules), a thick fibre
   // so that the rotary part is well above the tolerance (checked against the same strand
   // with the same ρS and 1e-4 of the rotary inertia).
   auto make = [](double radius, double density)
