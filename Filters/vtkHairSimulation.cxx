@@ -40,7 +40,9 @@ struct vtkHairSimulation::Internals
   int Window = std::numeric_limits<int>::max();
 };
 
-vtkHairSimulation::vtkHairSimulation() : Internal(std::make_unique<Internals>())
+vtkHairSimulation::vtkHairSimulation()
+    : QuadratureTolerance(hair::QuadratureChooser::defaultTolerance()),
+      Internal(std::make_unique<Internals>())
 {
   this->SetNumberOfInputPorts(2);
   this->SetNumberOfOutputPorts(2);
@@ -67,6 +69,7 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "BodyMotion: " << this->BodyMotion << " amplitude " << this->MotionAmplitude
      << " frequency " << this->MotionFrequency << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
+     << indent << "QuadratureTolerance: " << this->QuadratureTolerance << "\n"
      << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
      << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
@@ -263,6 +266,7 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     o.gravity = Eigen::Vector3d(this->Gravity);
     o.wind = Eigen::Vector3d(this->Wind);
     o.threads = this->NumberOfThreads;
+    o.quadratureTolerance = this->QuadratureTolerance;
     o.motion.kind = static_cast<hair::HeadMotion::Kind>(this->BodyMotion);
     o.motion.amplitude = this->MotionAmplitude;
     o.motion.frequency = this->MotionFrequency;

@@ -68,6 +68,10 @@ public:
   vtkGetVector3Macro(MotionPivot, double);
   vtkSetClampMacro(NumberOfThreads, int, 1, 256);
   vtkGetMacro(NumberOfThreads, int);
+  /// Super-Helix: hair::SimulationOptions::quadratureTolerance. Not clamped here:
+  /// hair::SimulationOptions::validate refuses values outside [1e-15, 1e-2] with a message.
+  vtkSetMacro(QuadratureTolerance, double);
+  vtkGetMacro(QuadratureTolerance, double);
   /// Super-Helix hair–body contacts (docs/superhelix-contacts.md). Not clamped here:
   /// hair::BodyContactParameters::validate refuses bad values with a message.
   vtkSetMacro(Contacts, bool);
@@ -135,6 +139,7 @@ protected:
   double MotionAxis[3] = {0, 1, 0};
   double MotionPivot[3] = {0, 1.45, 0.02};
   int NumberOfThreads = 2;
+  double QuadratureTolerance; ///< Core's default, set by the constructor
   bool Contacts = true;
   double ContactStiffness = 10;     ///< N/m²
   double ContactDamping = 1;        ///< fraction of critical

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <thread>
 
 namespace hair
@@ -169,6 +170,15 @@ Status SimulationOptions::validate() const
   if (!finite(gravity) || !finite(wind))
   {
     return Status::Error("gravity and wind must be finite vectors.");
+  }
+  if (model == StrandModel::SuperHelix &&
+      !(quadratureTolerance >= 1e-15 && quadratureTolerance <= 1e-2))
+  {
+    std::ostringstream s;
+    s << "the quadrature tolerance " << quadratureTolerance
+      << " is outside [1e-15, 1e-2]; the default " << QuadratureChooser::defaultTolerance()
+      << " keeps the quadrature error far below the time step's, 1e-2 is the fastest.";
+    return Status::Error(s.str());
   }
   if (threads < 1)
   {
@@ -605,6 +615,7 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
       spec.seed = g.seed + static_cast<std::uint32_t>(k);
       spec.gravity = options.gravity;
       spec.wind = options.wind;
+      spec.quadratureTolerance = options.quadratureTolerance;
       spec.root = options.motion.carriedRoot(g.root, rootFrame(g));
       if (Status s = r->Helices[k].initialize(spec, 0.0); !s)
       {
@@ -722,6 +733,7 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands,
   at["motion_frequency"] = options.motion.frequency;
   if (options.model == StrandModel::SuperHelix)
   {
+    at["quadrature_tolerance"] = options.quadratureTolerance;
     const BodyContactParameters& c = options.contacts;
     at["contacts"] = c.enabled ? 1 : 0;
     at["contact_stiffness"] = c.stiffness;

@@ -10,6 +10,7 @@
 #include "superhelix/BodyContacts.h"
 #include "superhelix/HairHairContacts.h"
 #include "superhelix/HairParameters.h"
+#include "superhelix/Quadrature.h"
 #include "superhelix/RootMotion.h"
 
 #include <Eigen/Core>
@@ -86,6 +87,12 @@ struct SimulationOptions
   HeadMotion motion;
   int threads = 1;
   int pointsPerElement = 4; ///< Super-Helix: display points per element
+  /// Super-Helix: a priori bound on each element's quadrature error
+  /// (StrandSpec::quadratureTolerance, in [1e-15, 1e-2]). The default keeps the quadrature
+  /// error far below the 1/30 s step's own; 1e-2 makes curled hair 5–10 % faster and moves
+  /// q after 2 s of a head shake by at most 4.6e-3 of its size, 48–230 times less than the
+  /// 1/30 s step itself does (docs/benchmarks-superhelix.md, thirteenth revision).
+  double quadratureTolerance = QuadratureChooser::defaultTolerance();
   /// Super-Helix: hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the simulation. The projective model keeps its
   /// own reaction constraint (docs/projective-strands.md) and ignores these.

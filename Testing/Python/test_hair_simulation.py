@@ -182,6 +182,26 @@ check(not errors.messages and attrs.get("hair_hair_per_length") == 1
       and attrs.get("hair_hair_reference_length") == 0.01,
       f"a run with the per-length hair–hair penalty goes through and is recorded ({errors.messages[:1]})")
 
+# The quadrature tolerance (advanced): out of range is refused by name; a loose one goes
+# through and is recorded; the default is Core's.
+bad_q = HairSimulation(Input=strands, Duration=0.1, QuadratureTolerance=0.5)  # noqa: F821
+errors = Errors(bad_q)
+bad_q.UpdatePipeline(0.0)
+check(any("quadrature tolerance" in m for m in errors.messages),
+      f"a quadrature tolerance of 0.5 is refused by name ({errors.messages[:1]})")
+q_state = os.path.join(tmp, "quadrature.h5")
+loose = HairSimulation(Input=strands, Colliders=[head], Duration=0.2,  # noqa: F821
+                       QuadratureTolerance=1e-2, StateFileName=q_state)
+errors = Errors(loose)
+loose.UpdatePipeline(0.2)
+with h5py.File(q_state, "r", swmr=True) as f:
+    attrs = dict(f.attrs)
+check(not errors.messages and attrs.get("quadrature_tolerance") == 1e-2,
+      f"a run with quadrature tolerance 1e-2 goes through and is recorded ({errors.messages[:1]})")
+default_q = HairSimulation(Input=strands).GetProperty("QuadratureTolerance")[0]  # noqa: F821
+check(default_q == 5.3362954729907547e-06,
+      f"the property's default is Core's ({default_q!r})")
+
 # A run killed with SIGKILL mid-way leaves a readable file.
 killed = os.path.join(tmp, "killed.h5")
 script = os.path.join(tmp, "long_run.py")
