@@ -171,13 +171,18 @@ Status SimulationOptions::validate() const
   {
     return Status::Error("gravity and wind must be finite vectors.");
   }
+  // The strands check the same range (StrandSpec::validate); this message names the
+  // simulation's option instead of a strand's field.
   if (model == StrandModel::SuperHelix &&
-      !(quadratureTolerance >= 1e-15 && quadratureTolerance <= 1e-2))
+      !(quadratureTolerance >= QuadratureChooser::MinTolerance &&
+        quadratureTolerance <= QuadratureChooser::MaxTolerance))
   {
     std::ostringstream s;
-    s << "the quadrature tolerance " << quadratureTolerance
-      << " is outside [1e-15, 1e-2]; the default " << QuadratureChooser::defaultTolerance()
-      << " keeps the quadrature error far below the time step's, 1e-2 is the fastest.";
+    s << "the quadrature tolerance " << quadratureTolerance << " is outside ["
+      << QuadratureChooser::MinTolerance << ", " << QuadratureChooser::MaxTolerance
+      << "]; the default " << QuadratureChooser::defaultTolerance()
+      << " keeps the quadrature error far below the time step's, "
+      << QuadratureChooser::MaxTolerance << " is the fastest.";
     return Status::Error(s.str());
   }
   if (threads < 1)

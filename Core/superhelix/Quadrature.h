@@ -45,6 +45,9 @@ class QuadratureChooser
 public:
   /// The bound of the former fixed rule (4 points, Ω h ≤ π/2).
   static double defaultTolerance();
+  /// The tolerances a strand accepts (StrandSpec::validate): below 1e-15 the bound is
+  /// under round-off; above 1e-2 it no longer bounds anything useful.
+  static constexpr double MinTolerance = 1e-15, MaxTolerance = 1e-2;
   /// minPoints >= 3 keeps straight elements exact: their integrands are polynomials of
   /// degree <= 5 (measured: M, f, C of a straight strand with 3 points agree with 12 to
   /// 8e-16; with 2 points they are 3e-5 off). minPoints = maxPoints = 4 with the default

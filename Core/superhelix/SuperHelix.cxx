@@ -204,11 +204,13 @@ Status StrandSpec::validate() const
     return Status::Error(who + "wind is not finite; give a velocity in m/s.");
   if (!tipForce.allFinite())
     return Status::Error(who + "the tip force is not finite; give a force in N.");
-  if (!(quadratureTolerance >= 1e-15 && quadratureTolerance <= 1e-2))
+  if (!(quadratureTolerance >= QuadratureChooser::MinTolerance &&
+        quadratureTolerance <= QuadratureChooser::MaxTolerance))
   {
     std::ostringstream s;
-    s << who << "quadratureTolerance = " << quadratureTolerance
-      << " is outside [1e-15, 1e-2]; the default " << QuadratureChooser::defaultTolerance()
+    s << who << "quadratureTolerance = " << quadratureTolerance << " is outside ["
+      << QuadratureChooser::MinTolerance << ", " << QuadratureChooser::MaxTolerance
+      << "]; the default " << QuadratureChooser::defaultTolerance()
       << " is the former fixed rule's accuracy.";
     return Status::Error(s.str());
   }

@@ -257,7 +257,7 @@ TEST(Simulation, QuadratureToleranceReachesTheStrandsAndTheStateFile)
   auto g = guides(2, 5);
   for (GuideStrand& s : g)
     s.hair = HairParameters::preset(HairType::Curly);
-  std::vector<double> tip[2];
+  std::vector<double> points[2];
   for (int k = 0; k < 2; ++k)
   {
     SimulationOptions o;
@@ -271,12 +271,12 @@ TEST(Simulation, QuadratureToleranceReachesTheStrandsAndTheStateFile)
     ASSERT_TRUE(sim.advanceTo(16).ok());
     const StateFrame& f = sim.frame(15);
     for (const Eigen::Vector3d& p : f.positions)
-      tip[k].insert(tip[k].end(), {p.x(), p.y(), p.z()});
+      points[k].insert(points[k].end(), {p.x(), p.y(), p.z()});
   }
-  ASSERT_EQ(tip[0].size(), tip[1].size());
+  ASSERT_EQ(points[0].size(), points[1].size());
   double most = 0;
-  for (size_t i = 0; i < tip[0].size(); ++i)
-    most = std::max(most, std::abs(tip[0][i] - tip[1][i]));
+  for (size_t i = 0; i < points[0].size(); ++i)
+    most = std::max(most, std::abs(points[0][i] - points[1][i]));
   EXPECT_GT(most, 1e-9) << "the tolerance did not reach the strands";
   EXPECT_LT(most, 1e-3);
 }
