@@ -22,9 +22,11 @@ def main(argv):
     except ValueError:
         sys.exit(f"ROUNDS must be a whole number, not {argv[0]!r}\n\n{__doc__}")
     flt, exes = argv[1], argv[2:]
-    best = {exe: {} for exe in exes}
+    # One column per argument, not per path: the same executable given twice is a control
+    # that shows the noise between runs.
+    best = [{} for _ in exes]
     for _ in range(rounds):
-        for exe in exes:
+        for i, exe in enumerate(exes):
             run = subprocess.run([exe, f"--benchmark_filter={flt}", "--benchmark_min_time=0.3",
                                   "--benchmark_repetitions=3", "--benchmark_format=json"],
                                  capture_output=True, text=True)
@@ -35,14 +37,14 @@ def main(argv):
                     continue
                 unit = {"ns": 1e-3, "us": 1.0, "ms": 1e3}[bm["time_unit"]]
                 cpu, wall = bm["cpu_time"] * unit, bm["real_time"] * unit
-                old = best[exe].get(bm["run_name"], (float("inf"), float("inf")))
-                best[exe][bm["run_name"]] = (min(old[0], cpu), min(old[1], wall))
-    names = list(best[exes[0]].keys())
+                old = best[i].get(bm["run_name"], (float("inf"), float("inf")))
+                best[i][bm["run_name"]] = (min(old[0], cpu), min(old[1], wall))
+    names = list(best[0].keys())
     if not names:
         sys.exit(f"no benchmark matches {flt!r}")
     print("benchmark".ljust(40) + "".join(f"{'executable ' + str(i + 1):>22}" for i in range(len(exes))))
     for n in names:
-        cells = (best[exe].get(n, (float("nan"), float("nan"))) for exe in exes)
+        cells = (b.get(n, (float("nan"), float("nan"))) for b in best)
         print(n.ljust(40) + "".join(f"{c:>12.2f} ({w:>7.1f})" for c, w in cells))
 
 
