@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 using namespace hair;
 
@@ -277,6 +278,9 @@ TEST(Simulation, QuadratureToleranceReachesTheStrandsAndTheStateFile)
   double most = 0;
   for (size_t i = 0; i < points[0].size(); ++i)
     most = std::max(most, std::abs(points[0][i] - points[1][i]));
+  std::ostringstream shown;
+  shown << most;
+  RecordProperty("largest_difference_m", shown.str()); // in --gtest_output
   EXPECT_GT(most, 1e-9) << "the tolerance did not reach the strands";
   EXPECT_LT(most, 1e-3);
 }
