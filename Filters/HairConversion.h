@@ -2,8 +2,8 @@
 // vtkPolyData / vtkImageData <-> HairCore types. The one place where the pipeline's data
 // and Core's meet; filters call these and stay thin.
 #include "collision/CollisionTable.h"
-#include "collision/TriangleMesh.h"
 #include "common/Status.h"
+#include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
 
 #include <map>

@@ -1,8 +1,8 @@
 #include "vtkHairStrands.h"
 
 #include "HairConversion.h"
+#include "strands/HairParameters.h"
 #include "strands/RootSampling.h"
-#include "superhelix/HairParameters.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>

@@ -13,10 +13,10 @@
 //
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
+#include "ClumpScene.h"
+#include "contact/HairHairContacts.h"
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
-#include "superhelix/ClumpScene.h"
-#include "superhelix/HairHairContacts.h"
 #include "superhelix/SuperHelix.h"
 
 #include <Eigen/Eigenvalues>
@@ -602,7 +602,7 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
     {
       if (c.contacts)
       {
-        if (Status st = contacts.update(strands); !st)
+        if (Status st = findHairHairContacts(strands, contacts); !st)
           return st;
         deepest = std::max(deepest, contacts.stats().maxPenetration);
         lastContacts = contacts.stats().contacts;

@@ -3,9 +3,9 @@
 // into a table of radii r(azimuth, height) around an axis (cylindrical) or r(azimuth,
 // polar angle) around a centre (spherical), built once by casting rays, so that a
 // collision test is one table look-up whatever the size of the mesh.
-#include "collision/TriangleMesh.h"
 #include "common/Progress.h"
 #include "common/Status.h"
+#include "geometry/TriangleMesh.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

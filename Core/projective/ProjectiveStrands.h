@@ -7,11 +7,11 @@
 // reaction-constraint response of Platt and Barr (1988) and are put back on the surface by
 // turning their segment. The equations the code solves are in docs/projective-strands.md.
 #include "collision/CollisionTable.h"
-#include "collision/ReactionConstraint.h"
 #include "common/Progress.h"
 #include "common/Status.h"
-#include "projective/BodyMotion.h"
-#include "projective/Wind.h"
+#include "contact/ReactionConstraint.h"
+#include "scene/BodyMotion.h"
+#include "scene/Wind.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -791,7 +791,7 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
         int pieces = 1;
         if (P->Options.hairHairEnabled)
         {
-          if (Status s = P->HairHair.update(P->Helices); !s)
+          if (Status s = findHairHairContacts(P->Helices, P->HairHair); !s)
           {
             P->Failed = Status::Error("hair–hair contacts at t = " + std::to_string(P->time()) +
                                       " s: " + s.message());
@@ -803,7 +803,7 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
         {
           if (k > 0)
           {
-            if (Status s = P->HairHair.update(P->Helices); !s)
+            if (Status s = findHairHairContacts(P->Helices, P->HairHair); !s)
             {
               P->Failed = Status::Error("hair–hair contacts at t = " + std::to_string(P->time()) +
                                         " s: " + s.message());

@@ -6,12 +6,12 @@
 #include "collision/CollisionTable.h"
 #include "common/Progress.h"
 #include "common/Status.h"
+#include "contact/BodyContacts.h"
+#include "contact/HairHairContacts.h"
 #include "io/StateFile.h"
-#include "superhelix/BodyContacts.h"
-#include "superhelix/HairHairContacts.h"
-#include "superhelix/HairParameters.h"
+#include "scene/RootMotion.h"
+#include "strands/HairParameters.h"
 #include "superhelix/Quadrature.h"
-#include "superhelix/RootMotion.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

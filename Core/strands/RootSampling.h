@@ -1,7 +1,7 @@
 #pragma once
 // Where guide strands grow: roots spread evenly over a region of a surface.
-#include "collision/TriangleMesh.h"
 #include "common/Status.h"
+#include "geometry/TriangleMesh.h"
 
 #include <Eigen/Core>
 

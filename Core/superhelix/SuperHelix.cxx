@@ -1867,4 +1867,16 @@ Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, dou
   return Status::Ok();
 }
 
+Status findHairHairContacts(const std::vector<SuperHelix>& strands, HairHairContacts& contacts)
+{
+  std::vector<std::vector<StrandSample>> samples(strands.size());
+  std::vector<int> ids(strands.size());
+  for (std::size_t i = 0; i < strands.size(); ++i)
+  {
+    samples[i] = strands[i].samples();
+    ids[i] = strands[i].spec().id;
+  }
+  return contacts.update(samples, ids);
+}
+
 } // namespace hair

@@ -5,10 +5,12 @@
 // clamped at a moving root, advanced by the paper's semi-implicit step. The equations are
 // in docs/super-helix.md. No VTK, no printing, no exceptions across the API.
 #include "common/Status.h"
-#include "superhelix/HairParameters.h"
+#include "contact/ContactResponse.h"
+#include "contact/HairHairContacts.h"
+#include "scene/RootMotion.h"
+#include "strands/HairParameters.h"
 #include "superhelix/HelixFunctions.h"
 #include "superhelix/Quadrature.h"
-#include "superhelix/RootMotion.h"
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -53,37 +55,6 @@ struct StrandSpec
   static StrandSpec uniform(double length, int elements, const HairParameters& hair);
   Status validate() const;
 };
-
-/// A quadrature sample along the strand, where distributed forces are evaluated.
-struct StrandSample
-{
-  int element = 0;
-  double s = 0;      ///< arc length from the root [m]
-  double weight = 0; ///< quadrature weight [m]: ∫ f ds ≈ Σ weight · f(sample)
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-};
-
-/// The contact response at one sample, linearized about the sample's position x and
-/// velocity v at the start of the step: force per unit length f [N/m] and its derivatives
-/// K = −∂f/∂x [N/m²] and D = −∂f/∂v [N·s/m²]. The step treats K and D implicitly
-/// (backward Euler on the linearization), so a stiff penalty keeps dt = 1/30 s stable; the
-/// force that acts over the step, and whose work is reported, is
-///   f − K (x⁽ⁿ⁺¹⁾ − xⁿ) − D (v⁽ⁿ⁺¹⁾ − vⁿ),  x⁽ⁿ⁺¹⁾ − xⁿ ≈ h v⁽ⁿ⁺¹⁾.
-/// Leave K and D zero for an explicit force.
-struct ContactResponse
-{
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
-};
-
-/// Contact hook: given the samples at the start of a (sub-)step, write the response of each
-/// sample (the vector arrives sized and zeroed). Called once per step (per sub-step of
-/// SuperHelix::advance) from the thread that steps this strand.
-using ContactForces =
-    std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
-                       std::vector<ContactResponse>& response)>;
 
 /// Energies [J]. State energies are at `time`; the work terms are over the last step and
 /// accumulated since initialize(). The budget, which closes by construction of `residual`:
@@ -295,5 +266,9 @@ private:
 /// only). Returns the first error in strand order; strands that failed keep their state,
 /// the others are advanced.
 Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, double tolerance = 0);
+
+/// HairHairContacts::update from the strands' current samples, each named by its
+/// StrandSpec::id (ids must be distinct).
+Status findHairHairContacts(const std::vector<SuperHelix>& strands, HairHairContacts& contacts);
 
 } // namespace hair

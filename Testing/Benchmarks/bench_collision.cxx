@@ -2,8 +2,9 @@
 // the bundled body (26 756 triangles) and a refined copy of it (each triangle split into
 // 36, 963 216 triangles, the same surface). The table's cost must not change with the
 // mesh; CGAL's grows with it. Scripts/bench_collision.py runs this and prints the ratios.
+#include "collision/BodyPartList.h"
 #include "collision/CollisionTable.h"
-#include "collision/MeshIO.h"
+#include "geometry/MeshIO.h"
 
 #include <benchmark/benchmark.h>
 

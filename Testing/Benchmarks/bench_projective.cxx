@@ -5,7 +5,7 @@
 //   share = 1 − time(no parts) / time(head + trunk).
 // Run: bench_projective --benchmark_min_time=2 --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true      (docs/benchmarks-projective.md)
-#include "projective/ProjectiveScenes.h"
+#include "ProjectiveScenes.h"
 
 #include <benchmark/benchmark.h>
 

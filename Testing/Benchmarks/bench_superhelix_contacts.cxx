@@ -17,10 +17,10 @@
 //                                 implicit contact terms cost a strand lying on the scalp. No
 //                                 gravity and a fixed root: the strand rests in its natural
 //                                 shape in both variants, so they take the same steps.
-#include "projective/ProjectiveScenes.h"
+#include "ProjectiveScenes.h"
+#include "contact/BodyContacts.h"
 #include "simulation/Simulation.h"
 #include "strands/RootSampling.h"
-#include "superhelix/BodyContacts.h"
 #include "superhelix/SuperHelix.h"
 
 #include <benchmark/benchmark.h>

@@ -3,9 +3,10 @@
 // exact point-in-mesh test on the bundled body, and the analytic solution of a critically
 // damped oscillator for the reaction constraint.
 #include "AnalyticBodies.h"
+#include "collision/BodyPartList.h"
 #include "collision/CollisionTable.h"
-#include "collision/MeshIO.h"
-#include "collision/ReactionConstraint.h"
+#include "contact/ReactionConstraint.h"
+#include "geometry/MeshIO.h"
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,9 @@
 // References: brute-force O(n²) search for the broad phase; Newton's third law for the pair
 // forces; the strands' own energy budget (docs/super-helix.md) for the contact work; the
 // static penetration of a penalty, load / stiffness.
-#include "superhelix/ClumpScene.h"
-#include "superhelix/HairHairContacts.h"
+#include "ClumpScene.h"
+#include "contact/HairHairContacts.h"
+#include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>
 
@@ -50,7 +51,7 @@ Status stepAll(std::vector<SuperHelix>& strands, HairHairContacts* contacts, int
 {
   if (contacts)
   {
-    Status st = contacts->update(strands);
+    Status st = findHairHairContacts(strands, *contacts);
     if (!st)
       return st;
   }
@@ -473,7 +474,7 @@ Status pushTogether(bool withContacts, double& closest, double& depthAtRest, dou
     }
     // Momentum: the responses the hook gives every strand at the update's configuration,
     // integrated along the strands (Σ weight × force per unit length), must cancel.
-    if (!(st = contacts.update(strands)))
+    if (!(st = findHairHairContacts(strands, contacts)))
       return st;
     energy->penalty = contacts.stats().potentialEnergy;
     Eigen::Vector3d net = Eigen::Vector3d::Zero();
@@ -700,7 +701,7 @@ Status runClump(const ClumpSetup& c, ClumpRun& out)
       double h = c.updatesPerFrame > 0 ? Dt / c.updatesPerFrame : remaining;
       if (c.contacts)
       {
-        if (!(st = contacts.update(strands)))
+        if (!(st = findHairHairContacts(strands, contacts)))
           return st;
         if (c.updatesPerFrame <= 0)
           h = remaining / contacts.updatesPerStep(remaining);
@@ -710,7 +711,7 @@ Status runClump(const ClumpSetup& c, ClumpRun& out)
         deepest = std::max(deepest, contacts.stats().maxPenetration);
         if (c.checkCoherence)
         {
-          if (!(st = fresh.update(strands)))
+          if (!(st = findHairHairContacts(strands, fresh)))
             return st;
           const HairHairStats &a = contacts.stats(), &b = fresh.stats();
           if (a.contacts != b.contacts ||
@@ -734,7 +735,7 @@ Status runClump(const ClumpSetup& c, ClumpRun& out)
   }
   if (c.contacts)
   {
-    if (!(st = contacts.update(strands)))
+    if (!(st = findHairHairContacts(strands, contacts)))
       return st;
     out.penaltyEnergy = contacts.stats().potentialEnergy;
   }

@@ -5,10 +5,10 @@
 // contact, and the definitions of the body motions.
 #include "AnalyticBodies.h"
 #include "collision/CollisionTable.h"
-#include "projective/BodyMotion.h"
 #include "projective/Cluster.h"
 #include "projective/ProjectiveStrands.h"
-#include "projective/Wind.h"
+#include "scene/BodyMotion.h"
+#include "scene/Wind.h"
 
 #include <gtest/gtest.h>
 

@@ -9,9 +9,9 @@
 // strands of 40 segments) are DISABLED_ tests that print the figures written in
 // docs/projective-strands.md:
 //   Testing/test_projective_scenes --gtest_also_run_disabled_tests --gtest_filter='*Full*'
-#include "collision/TriangleMesh.h"
+#include "ProjectiveScenes.h"
+#include "geometry/TriangleMesh.h"
 #include "projective/Cluster.h"
-#include "projective/ProjectiveScenes.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Roots of guide strands: on the surface, in the region, evenly spread (against the
 // spacing of a hexagonal packing, the densest arrangement of equal discs: Thue), seeded.
 #include "AnalyticBodies.h"
-#include "collision/MeshIO.h"
+#include "geometry/MeshIO.h"
 #include "strands/RootSampling.h"
 
 #include <gtest/gtest.h>

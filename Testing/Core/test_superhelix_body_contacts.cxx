@@ -4,10 +4,10 @@
 // (λ / k), and the capstan (Euler–Eytelwein) relation T_in / T_out = e^{μθ} of a rope
 // sliding over a fixed drum.
 #include "AnalyticBodies.h"
+#include "ProjectiveScenes.h"
 #include "collision/CollisionTable.h"
-#include "collision/TriangleMesh.h"
-#include "projective/ProjectiveScenes.h"
-#include "superhelix/BodyContacts.h"
+#include "contact/BodyContacts.h"
+#include "geometry/TriangleMesh.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

@@ -4,11 +4,11 @@
 // wavy guides of 30 cm, 10 elements, combed, head shaking ±0.5 rad at 1 Hz, wind 0.5 m/s
 // from the front, 5 s), whose penetration statistics per frame docs/superhelix-contacts.md
 // records (this test prints them).
-#include "collision/TriangleMesh.h"
-#include "projective/ProjectiveScenes.h"
+#include "ProjectiveScenes.h"
+#include "contact/BodyContacts.h"
+#include "geometry/TriangleMesh.h"
 #include "simulation/Simulation.h"
 #include "strands/RootSampling.h"
-#include "superhelix/BodyContacts.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

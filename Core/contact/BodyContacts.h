@@ -7,7 +7,7 @@
 // docs/superhelix-contacts.md.
 #include "collision/CollisionTable.h"
 #include "common/Status.h"
-#include "superhelix/SuperHelix.h"
+#include "contact/ContactResponse.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

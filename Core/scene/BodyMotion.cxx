@@ -1,4 +1,4 @@
-#include "projective/BodyMotion.h"
+#include "scene/BodyMotion.h"
 
 #include <algorithm>
 #include <cmath>

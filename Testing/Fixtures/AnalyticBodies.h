@@ -2,7 +2,7 @@
 // Analytic bodies for the collision-table tests: exact ray crossings, exact normals, exact
 // inside test and a lower bound of the distance to the surface. None of it comes from the
 // code under test.
-#include "collision/TriangleMesh.h"
+#include "geometry/TriangleMesh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,7 @@
-#include "projective/ProjectiveScenes.h"
+#include "ProjectiveScenes.h"
 
-#include "collision/MeshIO.h"
+#include "collision/BodyPartList.h"
+#include "geometry/MeshIO.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "superhelix/BodyContacts.h"
+#include "contact/BodyContacts.h"
 
 #include <algorithm>
 #include <cmath>

@@ -13,7 +13,7 @@
 //                                                     contacts.addResponses(id, s, r); }
 //   stepStrands(strands, dt, threads);               // hooks read concurrently
 #include "common/Status.h"
-#include "superhelix/SuperHelix.h"
+#include "contact/ContactResponse.h"
 
 #include <Eigen/Core>
 
@@ -108,10 +108,8 @@ public:
   Status setParameters(const HairHairParameters& parameters);
   const HairHairParameters& parameters() const { return Params; }
 
-  /// Finds the contacts from every strand's current samples (SuperHelix::samples()). The
-  /// strands' ids (StrandSpec::id) name them in the hook; they must be distinct.
-  Status update(const std::vector<SuperHelix>& strands);
-  /// The same from sample lists; strand i has id ids[i] (ids empty: id = i).
+  /// Finds the contacts from every strand's current samples; strand i has id ids[i] (ids
+  /// empty: id = i), the id that names it in addResponses. Ids must be distinct.
   Status update(const std::vector<std::vector<StrandSample>>& samples,
                 const std::vector<int>& ids = {});
 

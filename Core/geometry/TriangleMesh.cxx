@@ -1,4 +1,4 @@
-#include "collision/TriangleMesh.h"
+#include "geometry/TriangleMesh.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>

@@ -3,8 +3,8 @@
 // rooted on the scalp, combed down over the head; wind from the front; the head shaking
 // left, right and left in a little wind. Used by the tests, the benchmark and the docs.
 #include "collision/CollisionTable.h"
-#include "collision/TriangleMesh.h"
 #include "common/Status.h"
+#include "geometry/TriangleMesh.h"
 #include "projective/ProjectiveStrands.h"
 
 #include <cstdint>

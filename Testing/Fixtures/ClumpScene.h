@@ -6,7 +6,7 @@
 // from `startOscillation` on, the root disc oscillating vertically. Shared by the hair–hair
 // tests and `hair_study clump` (study 3, docs/study-buckling.md).
 #include "common/Status.h"
-#include "superhelix/HairParameters.h"
+#include "strands/HairParameters.h"
 #include "superhelix/SuperHelix.h"
 
 #include <vector>

@@ -1,4 +1,4 @@
-#include "projective/Wind.h"
+#include "scene/Wind.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "superhelix/ClumpScene.h"
+#include "ClumpScene.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "superhelix/HairParameters.h"
+#include "strands/HairParameters.h"
 
 #include <cmath>
 #include <sstream>

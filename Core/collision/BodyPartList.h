@@ -1,8 +1,7 @@
 #pragma once
-// Reading meshes without VTK: Core's tests, benchmarks and studies read the bundled body
-// (Data/body.vtk, legacy VTK polydata) through this.
+// The list of a body's parts and their table specifications, as Data/body_parts.txt holds
+// it for the bundled body.
 #include "collision/CollisionTable.h"
-#include "collision/TriangleMesh.h"
 #include "common/Status.h"
 
 #include <string>
@@ -10,11 +9,6 @@
 
 namespace hair
 {
-
-/// Reads an ASCII legacy VTK file holding POLYDATA with POINTS and POLYGONS (polygons are
-/// split into fans of triangles). Anything else is refused with a message naming the file
-/// and the line.
-Status readVtkPolyData(const std::string& path, TriangleMesh& mesh);
 
 /// A named body part's table specification, as listed in Data/body_parts.txt.
 struct BodyPartSpec

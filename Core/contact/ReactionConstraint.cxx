@@ -1,4 +1,4 @@
-#include "collision/ReactionConstraint.h"
+#include "contact/ReactionConstraint.h"
 
 #include <cmath>
 

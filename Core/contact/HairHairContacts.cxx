@@ -1,4 +1,6 @@
-#include "superhelix/HairHairContacts.h"
+#include "contact/HairHairContacts.h"
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -178,18 +180,6 @@ Status HairHairContacts::setParameters(const HairHairParameters& parameters)
   HaveBuild = false;
   ContactKeys.clear();
   return Status::Ok();
-}
-
-Status HairHairContacts::update(const std::vector<SuperHelix>& strands)
-{
-  std::vector<std::vector<StrandSample>> samples(strands.size());
-  std::vector<int> ids(strands.size());
-  for (size_t i = 0; i < strands.size(); ++i)
-  {
-    samples[i] = strands[i].samples();
-    ids[i] = strands[i].spec().id;
-  }
-  return update(samples, ids);
 }
 
 Status HairHairContacts::update(const std::vector<std::vector<StrandSample>>& samples,

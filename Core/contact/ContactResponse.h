@@ -1,0 +1,44 @@
+#pragma once
+// The one contact-response type of Core: what a contact (with the body, with other hair)
+// gives a strand at the points where its forces act, linearized so that the step can treat
+// the stiffness and damping implicitly.
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+namespace hair
+{
+
+/// A point of a strand where distributed forces act (a Super-Helix quadrature sample).
+struct StrandSample
+{
+  int element = 0;
+  double s = 0;      ///< arc length from the root [m]
+  double weight = 0; ///< quadrature weight [m]: ∫ f ds ≈ Σ weight · f(sample)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+/// The contact response at one sample, linearized about the sample's position x and
+/// velocity v at the start of the step: force per unit length f [N/m] and its derivatives
+/// K = −∂f/∂x [N/m²] and D = −∂f/∂v [N·s/m²]. The step treats K and D implicitly
+/// (backward Euler on the linearization), so a stiff penalty keeps dt = 1/30 s stable; the
+/// force that acts over the step, and whose work is reported, is
+///   f − K (x⁽ⁿ⁺¹⁾ − xⁿ) − D (v⁽ⁿ⁺¹⁾ − vⁿ),  x⁽ⁿ⁺¹⁾ − xⁿ ≈ h v⁽ⁿ⁺¹⁾.
+/// Leave K and D zero for an explicit force.
+struct ContactResponse
+{
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
+};
+
+/// Contact hook: given the samples at the start of a (sub-)step, write the response of each
+/// sample (the vector arrives sized and zeroed). Called once per step (and sub-step) of the
+/// strand, from the thread that steps it.
+using ContactForces =
+    std::function<void(int strandId, double time, const std::vector<StrandSample>& samples,
+                       std::vector<ContactResponse>& response)>;
+
+} // namespace hair
