@@ -11,7 +11,7 @@
 #include "common/Status.h"
 #include "contact/ReactionConstraint.h"
 #include "scene/BodyMotion.h"
-#include "scene/Wind.h"
+#include "scene/AirField.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -7,6 +7,7 @@
 #include "common/Status.h"
 #include "contact/ContactResponse.h"
 #include "contact/HairHairContacts.h"
+#include "scene/AirField.h"
 #include "scene/RootMotion.h"
 #include "strands/HairParameters.h"
 #include "superhelix/HelixFunctions.h"
@@ -22,10 +23,6 @@
 
 namespace hair
 {
-
-/// Wind velocity at a world position and time. Must be safe to call from several threads.
-using AirVelocityField =
-    std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
 
 /// Everything that defines a strand before it moves.
 struct StrandSpec

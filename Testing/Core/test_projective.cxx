@@ -8,7 +8,7 @@
 #include "projective/Cluster.h"
 #include "projective/ProjectiveStrands.h"
 #include "scene/BodyMotion.h"
-#include "scene/Wind.h"
+#include "scene/AirField.h"
 
 #include <gtest/gtest.h>
 

@@ -1,15 +1,19 @@
 #pragma once
 // Wind as a field of air velocity in space and time, and the drag it puts on a thin
-// cylinder (a hair segment). Named apart from the Super-Helix model's `AirVelocityField` (a
-// callback type in superhelix/SuperHelix.h); the two are to be unified.
+// cylinder (a hair segment).
 #include "common/Status.h"
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <string>
 
 namespace hair
 {
+
+/// Wind velocity at a world position and time. Must be safe to call from several threads.
+using AirVelocityField =
+    std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
 
 struct GustyWind
 {

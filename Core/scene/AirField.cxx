@@ -1,4 +1,4 @@
-#include "scene/Wind.h"
+#include "scene/AirField.h"
 
 #include <algorithm>
 #include <cmath>
