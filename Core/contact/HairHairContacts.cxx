@@ -1,11 +1,12 @@
 #include "contact/HairHairContacts.h"
 
+#include "common/Parallel.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <thread>
 
 namespace hair
 {
@@ -532,38 +533,16 @@ void HairHairContacts::narrowPhase()
       out.contacts.push_back(hc);
     }
   };
-  // Ranges of at least 4096 candidates, at most one per thread.
-  const size_t count = Candidates.size();
-  const int parts = static_cast<int>(
-      std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(Params.threads), count / 4096)));
-  std::vector<Found> found(static_cast<size_t>(parts));
-  auto range = [&](int t) { return std::make_pair(count * t / parts, count * (t + 1) / parts); };
-  if (parts == 1)
-    process(0, count, found[0]);
-  else
-  {
-    std::vector<std::thread> pool;
-    int started = 1;
-    try
-    {
-      for (; started < parts; ++started)
-        pool.emplace_back(
-            [&, started]()
-            {
-              const auto [first, last] = range(started);
-              process(first, last, found[started]);
-            });
-    }
-    catch (...)
-    {
-      // No more threads: the calling thread does the remaining ranges.
-    }
-    process(range(0).first, range(0).second, found[0]);
-    for (int t = started; t < parts; ++t)
-      process(range(t).first, range(t).second, found[t]);
-    for (std::thread& th : pool)
-      th.join();
-  }
+  // Blocks of 4096 candidates on the narrow phase's threads, merged in block order: the
+  // blocks depend on the number of candidates only, so the result does not depend on the
+  // number of threads.
+  const std::int64_t count = static_cast<std::int64_t>(Candidates.size()), grain = 4096;
+  std::vector<Found> found(
+      static_cast<size_t>(std::max<std::int64_t>(1, blockCount(count, grain))));
+  parallelBlocks(
+      count, grain, Params.threads,
+      [&](std::int64_t first, std::int64_t last)
+      { process(static_cast<size_t>(first), static_cast<size_t>(last), found[first / grain]); });
   Sides.assign(n, {});
   Contacts.clear();
   std::swap(PreviousKeys, ContactKeys);

@@ -59,8 +59,8 @@ struct HairHairParameters
   /// The depth, as a fraction of 2 × thickness, a pair may reach within one step at its
   /// current closing speed: what HairHairContacts::updatesPerStep aims at.
   double allowedDepth = 0.3;
-  /// Threads of the narrow phase in update() (std::thread; ranges of at least 4096 candidate
-  /// pairs; the result does not depend on it).
+  /// Threads of the narrow phase in update() (blocks of 4096 candidate pairs; the result
+  /// does not depend on it).
   int threads = 1;
   /// Grid cell size [m]; 0: automatic (longest piece + 2 × thickness + margin).
   double cellSize = 0;

@@ -1,11 +1,11 @@
 #include "projective/ProjectiveStrands.h"
 
+#include "common/Parallel.h"
+
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <thread>
 
 namespace hair
 {
@@ -766,41 +766,21 @@ Status ProjectiveStrands::step(ProjectiveStepStats* statsOut)
   // the placement pass looks up the parts at t0 + h.
   f.useParts1 = true;
 
+  // Strands in contact cost more than free ones: blocks of 16 strands go to whichever
+  // thread is free. Each strand's result does not depend on which thread steps it, and the
+  // statistics are merged in block order.
+  const std::int64_t block = 16;
+  std::vector<ProjectiveStepStats> stats(
+      std::max<std::int64_t>(1, blockCount(numberOfStrands(), block)));
+  parallelBlocks(numberOfStrands(), block, Options.threads,
+                 [&](std::int64_t begin, std::int64_t end)
+                 {
+                   for (std::int64_t s = begin; s < end; ++s)
+                   {
+                     stepStrand(Strands[s], f, stats[begin / block]);
+                   }
+                 });
   const int nthreads = std::max(1, std::min(Options.threads, numberOfStrands()));
-  std::vector<ProjectiveStepStats> stats(nthreads);
-  // Strands in contact cost more than free ones: threads take blocks of 16 strands from a
-  // shared counter rather than a fixed share. Each strand's result does not depend on
-  // which thread steps it.
-  std::atomic<std::size_t> next{0};
-  auto work = [&](int t)
-  {
-    const std::size_t n = Strands.size(), block = 16;
-    for (std::size_t begin = next.fetch_add(block); begin < n; begin = next.fetch_add(block))
-    {
-      const std::size_t end = std::min(n, begin + block);
-      for (std::size_t s = begin; s < end; ++s)
-      {
-        stepStrand(Strands[s], f, stats[t]);
-      }
-    }
-  };
-  if (nthreads == 1)
-  {
-    work(0);
-  }
-  else
-  {
-    std::vector<std::thread> pool;
-    for (int t = 1; t < nthreads; ++t)
-    {
-      pool.emplace_back(work, t);
-    }
-    work(0);
-    for (auto& th : pool)
-    {
-      th.join();
-    }
-  }
   Time += h;
   ++Steps;
   for (std::size_t k = 0; k < Scene.parts.size(); ++k)

@@ -1,5 +1,6 @@
 #include "simulation/Simulation.h"
 
+#include "common/Parallel.h"
 #include "projective/ProjectiveStrands.h"
 #include "superhelix/SuperHelix.h"
 
@@ -7,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
-#include <thread>
 
 namespace hair
 {
@@ -21,43 +21,13 @@ bool finite(const Eigen::Vector3d& v)
   return v.allFinite();
 }
 
-/// fn(begin, end) over [0, count) cut into `threads` contiguous ranges, one per thread (the
-/// calling thread takes the first); if a thread cannot be started, the calling thread does
-/// its range too. The ranges do not depend on the machine, only on `threads`.
+/// fn(begin, end) over [0, count) on the simulation's threads, in blocks of `grain`.
 template <class Fn>
-void parallelRanges(std::size_t count, int threads, const Fn& fn)
+void parallelRanges(std::size_t count, int threads, const Fn& fn, std::int64_t grain = 16)
 {
-  const std::size_t parts = std::max<std::size_t>(1, std::min<std::size_t>(threads, count));
-  auto range = [&](std::size_t t)
-  { return std::make_pair(count * t / parts, count * (t + 1) / parts); };
-  if (parts == 1)
-  {
-    fn(std::size_t{0}, count);
-    return;
-  }
-  std::vector<std::thread> pool;
-  std::size_t started = 1;
-  try
-  {
-    for (; started < parts; ++started)
-    {
-      const auto [b, e] = range(started);
-      pool.emplace_back([&fn, b = b, e = e]() { fn(b, e); });
-    }
-  }
-  catch (...)
-  {
-    // No more threads: the rest is done below, on this one.
-  }
-  const auto [b0, e0] = range(0);
-  fn(b0, e0);
-  for (std::size_t t = started; t < parts; ++t)
-  {
-    const auto [b, e] = range(t);
-    fn(b, e);
-  }
-  for (std::thread& th : pool)
-    th.join();
+  parallelBlocks(static_cast<std::int64_t>(count), grain, threads,
+                 [&](std::int64_t begin, std::int64_t end)
+                 { fn(static_cast<std::size_t>(begin), static_cast<std::size_t>(end)); });
 }
 
 /// Orthonormal root frame: n0 along the growth, n1 as close as possible to the scalp normal
@@ -413,20 +383,22 @@ void Simulation::Impl::record()
   std::vector<double>& depthOf = f.pointData["contact_depth"];
   depthOf.assign(f.positions.size(), 0.0);
   std::vector<char> insideAny(f.positions.size(), 0);
-  parallelRanges(f.positions.size(), Options.threads,
-                 [&](std::size_t begin, std::size_t end)
-                 {
-                   for (std::size_t i = begin; i < end; ++i)
-                     for (const SimulationPart& p : Parts)
-                     {
-                       const TableQuery q = p.part.query(f.positions[i]);
-                       if (q.inside)
-                       {
-                         insideAny[i] = 1;
-                         depthOf[i] = std::max(depthOf[i], std::max(q.depth, 0.0));
-                       }
-                     }
-                 });
+  parallelRanges(
+      f.positions.size(), Options.threads,
+      [&](std::size_t begin, std::size_t end)
+      {
+        for (std::size_t i = begin; i < end; ++i)
+          for (const SimulationPart& p : Parts)
+          {
+            const TableQuery q = p.part.query(f.positions[i]);
+            if (q.inside)
+            {
+              insideAny[i] = 1;
+              depthOf[i] = std::max(depthOf[i], std::max(q.depth, 0.0));
+            }
+          }
+      },
+      4096);
   for (std::size_t i = 0; i < f.positions.size(); ++i)
   {
     contacts += insideAny[i];
