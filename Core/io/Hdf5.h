@@ -1,0 +1,103 @@
+#pragma once
+// The small part of HDF5's C API that the state file uses, wrapped: a handle that closes
+// itself, attributes, datasets that grow by one frame, and whole or partial reads. Every
+// function reports failure by its result; HDF5 also prints its error stack unless the caller
+// silences it (H5E_BEGIN_TRY … H5E_END_TRY), which Handle::reset() always does.
+#include "common/Status.h"
+
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+namespace hair::hdf5
+{
+
+/// Closes an HDF5 handle of any kind when it goes out of scope.
+class Handle
+{
+public:
+  Handle() = default;
+  explicit Handle(hid_t id) : Id(id) {}
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : Id(o.Id) { o.Id = -1; }
+  Handle& operator=(Handle&& o) noexcept
+  {
+    reset();
+    Id = o.Id;
+    o.Id = -1;
+    return *this;
+  }
+  ~Handle() { reset(); }
+  void reset();
+  hid_t get() const { return Id; }
+  bool valid() const { return Id >= 0; }
+
+private:
+  hid_t Id = -1;
+};
+
+// ---- Attributes -------------------------------------------------------------------------
+
+/// A scalar string attribute, variable-length UTF-8.
+Status writeStringAttribute(hid_t obj, const char* name, const std::string& value);
+
+/// A scalar numeric attribute of the file type `type`, written from `value`.
+template <typename T>
+Status writeScalarAttribute(hid_t obj, const char* name, hid_t type, T value)
+{
+  Handle space(H5Screate(H5S_SCALAR));
+  Handle attr(H5Acreate2(obj, name, type, space.get(), H5P_DEFAULT, H5P_DEFAULT));
+  if (!attr.valid() || H5Awrite(attr.get(), type, &value) < 0)
+  {
+    return Status::Error(std::string("cannot write the attribute ") + name);
+  }
+  return Status::Ok();
+}
+
+/// A string attribute, of fixed or variable length. False if it is missing or not a string.
+bool readStringAttribute(hid_t obj, const char* name, std::string& value);
+
+/// An attribute read as an int. False if it is missing or cannot be read as one; `value` may
+/// have been written to even then.
+bool readIntAttribute(hid_t obj, const char* name, int& value);
+
+/// An integer or floating-point attribute read as a double. False (and `value` untouched) if
+/// it is of another class or cannot be read.
+bool readNumericAttribute(hid_t obj, const char* name, double& value);
+
+/// The names of an object's attributes, in name order.
+std::vector<std::string> attributeNames(hid_t obj);
+
+// ---- Groups -----------------------------------------------------------------------------
+
+/// The names of a group's links, in name order, each cut to 255 characters. False (and no
+/// names) if the group's information cannot be read.
+bool linkNames(hid_t group, std::vector<std::string>& names);
+
+// ---- Datasets ---------------------------------------------------------------------------
+
+/// Creates a 1-D dataset of `count` values of `type` and writes them. False if either fails.
+bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data);
+
+/// A dataset of doubles that grows by one frame along its first dimension, each frame
+/// shaped `frameShape` (empty: one scalar per frame).
+Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape);
+
+/// Writes one frame's slab at index t, growing the dataset to t + 1 frames first.
+bool appendSlab(hid_t dataset, hsize_t t, const double* data);
+
+/// Reads frame t of a dataset of frames (all but the first dimension, flattened).
+bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data);
+
+/// Reads the first `count` values of a 1-D dataset as doubles.
+bool readFirst(hid_t dataset, hsize_t count, double* data);
+
+/// A dataset's dimensions (empty for a scalar or an invalid dataset).
+std::vector<hsize_t> extent(hid_t dataset);
+
+/// Reads a whole dataset as `memType`.
+bool readWhole(hid_t dataset, hid_t memType, void* data);
+
+} // namespace hair::hdf5

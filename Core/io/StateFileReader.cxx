@@ -1,0 +1,402 @@
+// StateFileReader (StateFile.h): opens a state file in steps, each of which refuses the file
+// with a message that says what is wrong, then reads frames on demand.
+#include "io/StateFile.h"
+
+#include "io/Hdf5.h"
+#include "io/StateFormat.h"
+
+#include <algorithm>
+#include <fstream>
+
+namespace hair
+{
+
+using namespace hdf5;
+namespace sf = stateformat;
+
+namespace
+{
+/// What open() reads and readFrame() uses.
+struct Contents
+{
+  Handle File;
+  StateHeader Header;
+  std::int64_t Frames = 0;
+  std::vector<double> Times;
+  std::map<std::string, std::vector<double>> Energies;
+};
+
+/// The datasets every state file has.
+struct FixedDatasets
+{
+  Handle Offsets, Time, Positions, Velocities;
+};
+
+Status damaged(const std::string& what)
+{
+  return Status::Error("is a damaged state file: " + what);
+}
+
+Status openFile(const std::string& path, Handle& file)
+{
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+  {
+    return Status::Error("is not an HDF5 file, so not a HairDynamics state file.");
+  }
+  // A file still being written (or whose writer was killed) opens in SWMR-read mode; a file
+  // written otherwise (h5py, a copy) opens normally.
+  file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT));
+  if (!file.valid())
+  {
+    file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  }
+  if (!file.valid())
+  {
+    return Status::Error("is damaged or truncated: HDF5 cannot open it.");
+  }
+  return Status::Ok();
+}
+
+/// The root's format and format_version attributes.
+Status checkFormat(hid_t f)
+{
+  std::string format;
+  if (!readStringAttribute(f, sf::FormatAttribute, format) || format != sf::Name)
+  {
+    return Status::Error(
+        std::string("is an HDF5 file but not a HairDynamics state file (its root has no "
+                    "attribute ") +
+        sf::FormatAttribute + " = \"" + sf::Name + "\").");
+  }
+  int version = 0;
+  if (!readIntAttribute(f, sf::VersionAttribute, version) || version != sf::Version)
+  {
+    return Status::Error("has state-file format version " + std::to_string(version) +
+                         "; this HairDynamics reads version " + std::to_string(sf::Version) + ".");
+  }
+  return Status::Ok();
+}
+
+Status openDataset(hid_t f, const char* path, Handle& dataset)
+{
+  if (H5Lexists(f, path, H5P_DEFAULT) <= 0)
+  {
+    return damaged(std::string(path) + " is missing.");
+  }
+  dataset = Handle(H5Dopen2(f, path, H5P_DEFAULT));
+  if (!dataset.valid())
+  {
+    return damaged(std::string(path) + " cannot be opened.");
+  }
+  return Status::Ok();
+}
+
+Status openFixedDatasets(hid_t f, FixedDatasets& d)
+{
+  Status s = openDataset(f, sf::Offsets, d.Offsets);
+  if (s)
+  {
+    s = openDataset(f, sf::Time, d.Time);
+  }
+  if (s)
+  {
+    s = openDataset(f, sf::Positions, d.Positions);
+  }
+  if (s)
+  {
+    s = openDataset(f, sf::Velocities, d.Velocities);
+  }
+  return s;
+}
+
+/// Every numeric attribute of the root but the format's own is a run attribute.
+void readRunAttributes(hid_t f, std::map<std::string, double>& attributes)
+{
+  for (const std::string& name : attributeNames(f))
+  {
+    if (std::find_if(std::begin(sf::RootAttributes), std::end(sf::RootAttributes),
+                     [&](const char* x) { return name == x; }) != std::end(sf::RootAttributes))
+    {
+      continue;
+    }
+    double value = 0;
+    if (readNumericAttribute(f, name.c_str(), value))
+    {
+      attributes[name] = value;
+    }
+  }
+}
+
+/// Per-strand parameters: every other dataset of /strands with one value per strand.
+void readStrandParameters(hid_t f, StateHeader& header)
+{
+  Handle strands(H5Gopen2(f, sf::Strands, H5P_DEFAULT));
+  std::vector<std::string> names;
+  linkNames(strands.get(), names);
+  for (const std::string& name : names)
+  {
+    if (sf::inGroup(sf::Strands, name) == sf::Offsets)
+    {
+      continue;
+    }
+    Handle d(H5Dopen2(strands.get(), name.c_str(), H5P_DEFAULT));
+    const auto dims = extent(d.get());
+    if (dims.size() == 1 && dims[0] == header.numberOfStrands())
+    {
+      std::vector<double> v(dims[0]);
+      if (readWhole(d.get(), H5T_NATIVE_DOUBLE, v.data()))
+      {
+        header.strandParameters[name] = std::move(v);
+      }
+    }
+  }
+}
+
+/// Everything of the header but the per-point scalars, which need the number of frames.
+Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
+{
+  readStringAttribute(f, sf::ModelAttribute, header.model);
+  readIntAttribute(f, sf::CoordinatesAttribute, header.coordinatesPerStrand);
+  readRunAttributes(f, header.attributes);
+  const auto n = extent(offsets);
+  header.offsets.resize(n.empty() ? 0 : n[0]);
+  if (n.size() != 1 || !readWhole(offsets, H5T_NATIVE_INT64, header.offsets.data()))
+  {
+    return damaged(std::string(sf::Offsets) + " cannot be read.");
+  }
+  if (Status s = header.validate(); !s)
+  {
+    return s;
+  }
+  readStrandParameters(f, header);
+  return Status::Ok();
+}
+
+/// Whole frames: the length of /time, written last in every frame. Positions and
+/// velocities must hold at least as many frames, of the header's points.
+Status checkShapes(const FixedDatasets& d, const StateHeader& header, std::int64_t& frames)
+{
+  const auto tdims = extent(d.Time.get());
+  frames = tdims.size() == 1 ? std::int64_t(tdims[0]) : -1;
+  const auto pdims = extent(d.Positions.get()), vdims = extent(d.Velocities.get());
+  const hsize_t points = header.numberOfPoints();
+  if (frames < 0 || pdims.size() != 3 || vdims.size() != 3 || pdims[1] != points ||
+      vdims[1] != points || pdims[2] != 3 || vdims[2] != 3 ||
+      std::int64_t(std::min(pdims[0], vdims[0])) < frames)
+  {
+    return damaged(std::string(sf::Time) + ", " + sf::Positions + " and " + sf::Velocities +
+                   " do not agree in shape.");
+  }
+  return Status::Ok();
+}
+
+Status readTimes(hid_t time, std::int64_t frames, std::vector<double>& times)
+{
+  times.resize(frames);
+  if (frames > 0 && !readFirst(time, hsize_t(frames), times.data()))
+  {
+    return damaged(std::string(sf::Time) + " cannot be read.");
+  }
+  return Status::Ok();
+}
+
+/// Per-point scalars: every other dataset of /frames shaped [T', P].
+void findPointData(hid_t f, std::int64_t frames, StateHeader& header)
+{
+  Handle group(H5Gopen2(f, sf::Frames, H5P_DEFAULT));
+  std::vector<std::string> names;
+  linkNames(group.get(), names);
+  for (const std::string& name : names)
+  {
+    if (sf::isFrameDataset(name))
+    {
+      continue;
+    }
+    Handle d(H5Dopen2(group.get(), name.c_str(), H5P_DEFAULT));
+    const auto dims = extent(d.get());
+    if (dims.size() == 2 && dims[1] == header.numberOfPoints() && std::int64_t(dims[0]) >= frames)
+    {
+      header.pointData.push_back(name);
+    }
+  }
+}
+
+/// Every dataset of /energy, each of at least `frames` values.
+Status readEnergies(hid_t f, std::int64_t frames, std::map<std::string, std::vector<double>>& out)
+{
+  Handle energy(H5Gopen2(f, sf::Energy, H5P_DEFAULT));
+  std::vector<std::string> names;
+  if (!energy.valid() || !linkNames(energy.get(), names))
+  {
+    return damaged(std::string(sf::Energy) + " is missing.");
+  }
+  for (const std::string& name : names)
+  {
+    Handle d(H5Dopen2(energy.get(), name.c_str(), H5P_DEFAULT));
+    const auto dims = extent(d.get());
+    std::vector<double> v(frames);
+    if (dims.size() != 1 || std::int64_t(dims[0]) < frames)
+    {
+      return damaged(sf::inGroup(sf::Energy, name) + " is shorter than " + sf::Time + ".");
+    }
+    if (frames > 0)
+    {
+      readFirst(d.get(), hsize_t(frames), v.data());
+    }
+    out[name] = std::move(v);
+  }
+  return Status::Ok();
+}
+
+/// The steps of open(), in order; the first that fails refuses the file.
+Status readFile(const std::string& path, Contents& c)
+{
+  if (Status s = openFile(path, c.File); !s)
+  {
+    return s;
+  }
+  const hid_t f = c.File.get();
+  if (Status s = checkFormat(f); !s)
+  {
+    return s;
+  }
+  // The fixed datasets are all opened before any is read, so that a missing one is reported
+  // before a malformed one.
+  FixedDatasets d;
+  if (Status s = openFixedDatasets(f, d); !s)
+  {
+    return s;
+  }
+  if (Status s = readHeader(f, d.Offsets.get(), c.Header); !s)
+  {
+    return s;
+  }
+  if (Status s = checkShapes(d, c.Header, c.Frames); !s)
+  {
+    return s;
+  }
+  if (Status s = readTimes(d.Time.get(), c.Frames, c.Times); !s)
+  {
+    return s;
+  }
+  findPointData(f, c.Frames, c.Header);
+  return readEnergies(f, c.Frames, c.Energies);
+}
+} // namespace
+
+struct StateFileReader::Impl : Contents
+{
+  std::string Path;
+};
+
+StateFileReader::StateFileReader() : P(std::make_unique<Impl>()) {}
+StateFileReader::~StateFileReader() = default;
+void StateFileReader::close()
+{
+  P = std::make_unique<Impl>();
+}
+const StateHeader& StateFileReader::header() const
+{
+  return P->Header;
+}
+std::int64_t StateFileReader::numberOfFrames() const
+{
+  return P->Frames;
+}
+const std::vector<double>& StateFileReader::times() const
+{
+  return P->Times;
+}
+const std::map<std::string, std::vector<double>>& StateFileReader::energies() const
+{
+  return P->Energies;
+}
+
+Status StateFileReader::open(const std::string& path)
+{
+  close();
+  auto fail = [&](const std::string& what)
+  {
+    close();
+    return Status::Error("'" + path + "' " + what);
+  };
+  if (!std::ifstream(path))
+  {
+    return fail("cannot be opened: check the path.");
+  }
+  auto r = std::make_unique<Impl>();
+  r->Path = path;
+  Status result = Status::Ok();
+  H5E_BEGIN_TRY
+  {
+    result = readFile(path, *r);
+  }
+  H5E_END_TRY;
+  if (!result)
+  {
+    return fail(result.message());
+  }
+  P = std::move(r);
+  return Status::Ok();
+}
+
+Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
+{
+  if (!P->File.valid())
+  {
+    return Status::Error("the state file is not open.");
+  }
+  if (index < 0 || index >= P->Frames)
+  {
+    return Status::Error("the state file '" + P->Path + "' has " + std::to_string(P->Frames) +
+                         " whole frames; frame " + std::to_string(index) + " does not exist.");
+  }
+  StateFrame out;
+  out.time = P->Times[index];
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    const hid_t f = P->File.get();
+    std::vector<double> buffer;
+    auto vectors = [&](const char* name, std::vector<Eigen::Vector3d>& v)
+    {
+      Handle d(H5Dopen2(f, name, H5P_DEFAULT));
+      if (!d.valid() || !readSlab(d.get(), hsize_t(index), buffer))
+      {
+        return false;
+      }
+      v.resize(buffer.size() / 3);
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
+      }
+      return true;
+    };
+    ok = vectors(sf::Positions, out.positions) && vectors(sf::Velocities, out.velocities);
+    if (ok && P->Header.coordinatesPerStrand > 0)
+    {
+      Handle q(H5Dopen2(f, sf::Q, H5P_DEFAULT)), qd(H5Dopen2(f, sf::QDot, H5P_DEFAULT));
+      ok = q.valid() && qd.valid() && readSlab(q.get(), hsize_t(index), out.q) &&
+           readSlab(qd.get(), hsize_t(index), out.qdot);
+    }
+    for (const std::string& name : P->Header.pointData)
+    {
+      Handle d(ok ? H5Dopen2(f, sf::inGroup(sf::Frames, name).c_str(), H5P_DEFAULT) : -1);
+      ok = ok && d.valid() && readSlab(d.get(), hsize_t(index), out.pointData[name]);
+    }
+  }
+  H5E_END_TRY;
+  if (!ok)
+  {
+    return Status::Error("the state file '" + P->Path + "': frame " + std::to_string(index) +
+                         " cannot be read: the file is damaged.");
+  }
+  for (const auto& [name, values] : P->Energies)
+  {
+    out.energy[name] = values[index];
+  }
+  frame = std::move(out);
+  return Status::Ok();
+}
+
+} // namespace hair
