@@ -61,6 +61,17 @@ Status writeStringAttribute(hid_t obj, const char* name, const std::string& valu
   return Status::Ok();
 }
 
+namespace
+{
+/// Whether the attribute holds exactly one value (the readers below read one into a
+/// scalar: an attribute of another shape would overrun it).
+bool holdsOneValue(hid_t attr)
+{
+  Handle space(H5Aget_space(attr));
+  return space.valid() && H5Sget_simple_extent_npoints(space.get()) == 1;
+}
+} // namespace
+
 bool readStringAttribute(hid_t obj, const char* name, std::string& value)
 {
   if (H5Aexists(obj, name) <= 0)
@@ -68,6 +79,10 @@ bool readStringAttribute(hid_t obj, const char* name, std::string& value)
     return false;
   }
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT));
+  if (!attr.valid() || !holdsOneValue(attr.get()))
+  {
+    return false;
+  }
   Handle type(H5Aget_type(attr.get()));
   if (H5Tget_class(type.get()) != H5T_STRING)
   {
@@ -103,12 +118,17 @@ bool readStringAttribute(hid_t obj, const char* name, std::string& value)
 bool readIntAttribute(hid_t obj, const char* name, int& value)
 {
   Handle attr(H5Aexists(obj, name) > 0 ? H5Aopen(obj, name, H5P_DEFAULT) : -1);
-  return attr.valid() && H5Aread(attr.get(), H5T_NATIVE_INT, &value) >= 0;
+  return attr.valid() && holdsOneValue(attr.get()) &&
+         H5Aread(attr.get(), H5T_NATIVE_INT, &value) >= 0;
 }
 
 bool readNumericAttribute(hid_t obj, const char* name, double& value)
 {
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT));
+  if (!attr.valid() || !holdsOneValue(attr.get()))
+  {
+    return false;
+  }
   Handle type(H5Aget_type(attr.get()));
   const H5T_class_t typeClass = H5Tget_class(type.get());
   if (typeClass != H5T_FLOAT && typeClass != H5T_INTEGER)

@@ -276,3 +276,53 @@ TEST(StateFile, BadFramesAreRefusedAndEarlierFramesKept)
   EXPECT_NE(w.create("/nonexistent-folder/x.h5", h).message().find("cannot be created"),
             std::string::npos);
 }
+
+TEST(StateFile, AttributesOfAnotherShapeAreNotReadIntoOneValue)
+{
+  // A user (or h5py) may store a root attribute as an array: the reader takes one value
+  // only from an attribute that holds exactly one, and ignores or refuses the others
+  // instead of reading past a scalar (which overflowed the stack before).
+  const StateHeader h = header(2, 3, 0);
+  StateFileReader r;
+  auto withAttribute = [&](const char* name, hid_t type, const void* values, hsize_t count)
+  {
+    r.close();
+    const std::string path = temp("array-attribute.h5");
+    {
+      StateFileWriter w;
+      EXPECT_TRUE(w.create(path, h, {"residual"}).ok());
+      EXPECT_TRUE(w.append(frame(h, 0)).ok());
+    }
+    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (H5Aexists(f, name) > 0)
+      H5Adelete(f, name);
+    hid_t space = H5Screate_simple(1, &count, nullptr);
+    hid_t a = H5Acreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, type, values);
+    H5Aclose(a);
+    H5Sclose(space);
+    H5Fclose(f);
+    return path;
+  };
+  const double gravity[3] = {0, -9.81, 0};
+  Status s = r.open(withAttribute("gravity", H5T_NATIVE_DOUBLE, gravity, 3));
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(r.header().attributes.count("gravity"), 0u); // not a scalar run attribute
+  EXPECT_EQ(r.numberOfFrames(), 1);
+
+  const int versions[4] = {1, 1, 1, 1};
+  s = r.open(withAttribute("format_version", H5T_NATIVE_INT, versions, 4));
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("format version"), std::string::npos) << s.message();
+
+  const int coordinates[8] = {3, 3, 3, 3, 3, 3, 3, 3};
+  s = r.open(withAttribute("coordinates_per_strand", H5T_NATIVE_INT, coordinates, 8));
+  EXPECT_EQ(r.header().coordinatesPerStrand, 0) << s.message();
+
+  hid_t strings = H5Tcopy(H5T_C_S1);
+  H5Tset_size(strings, H5T_VARIABLE);
+  const char* formats[2] = {"HairDynamics states", "HairDynamics states"};
+  s = r.open(withAttribute("format", strings, formats, 2));
+  H5Tclose(strings);
+  EXPECT_NE(s.message().find("not a HairDynamics state file"), std::string::npos) << s.message();
+}
