@@ -1,5 +1,7 @@
 #include "HairConversion.h"
 
+#include "strands/StrandParameters.h"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -372,8 +374,17 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
   strands->GetCellData()->AddArray(ids);
   for (const auto& [name, values] : header.strandParameters)
   {
+    // The pipeline's name of a parameter the table knows; a file's own name otherwise.
+    std::string arrayName = name;
+    for (const StrandParameter& p : strandParameters())
+    {
+      if (name == p.file)
+      {
+        arrayName = p.array;
+      }
+    }
     vtkNew<vtkDoubleArray> a;
-    a->SetName(name.c_str());
+    a->SetName(arrayName.c_str());
     a->SetNumberOfTuples(static_cast<vtkIdType>(values.size()));
     for (std::size_t k = 0; k < values.size(); ++k)
     {
@@ -382,6 +393,130 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     strands->GetCellData()->AddArray(a);
   }
   addField(strands->GetFieldData(), "Time", {frame.time});
+}
+
+void fromGuides(const std::vector<GuideStrand>& guides,
+                const std::vector<std::vector<Eigen::Vector3d>>& polylines, vtkPolyData* strands)
+{
+  const vtkIdType n = static_cast<vtkIdType>(guides.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  for (const std::vector<Eigen::Vector3d>& line : polylines)
+  {
+    lines->InsertNextCell(static_cast<vtkIdType>(line.size()));
+    for (const Eigen::Vector3d& x : line)
+    {
+      lines->InsertCellPoint(points->InsertNextPoint(x.data()));
+    }
+  }
+  strands->Initialize();
+  strands->SetPoints(points);
+  strands->SetLines(lines);
+  vtkCellData* cd = strands->GetCellData();
+  vtkNew<vtkIdTypeArray> ids;
+  ids->SetName("StrandId");
+  ids->SetNumberOfTuples(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    ids->SetValue(k, k);
+  }
+  cd->AddArray(ids);
+  for (const StrandParameter& p : strandParameters())
+  {
+    vtkSmartPointer<vtkDoubleArray> a =
+        vtkSmartPointer<vtkDoubleArray>::Take(pointArray(p.array, 1, n));
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      a->SetValue(k, p.get(guides[k]));
+    }
+    cd->AddArray(a);
+  }
+  vtkSmartPointer<vtkDoubleArray> normal =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("RootNormal", 3, n));
+  vtkSmartPointer<vtkDoubleArray> growth =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("GrowthDirection", 3, n));
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    normal->SetTuple(k, guides[k].normal.data());
+    growth->SetTuple(k, guides[k].growth.data());
+  }
+  cd->AddArray(normal);
+  cd->AddArray(growth);
+  cd->SetActiveScalars("StrandId");
+}
+
+Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
+{
+  if (!input || input->GetNumberOfLines() == 0)
+  {
+    return Status::Error("the strands input has no polylines: connect Hair Strands.");
+  }
+  vtkCellData* cd = input->GetCellData();
+  const vtkIdType cells = input->GetNumberOfCells(), lines = input->GetNumberOfLines();
+  // Cell data run over every cell: vertices, then lines (VTK's order in vtkPolyData).
+  const vtkIdType firstLine = input->GetNumberOfVerts();
+  auto cellArray = [&](const char* name, int components, vtkDataArray*& a) -> Status
+  {
+    a = cd->GetArray(name);
+    if (!a)
+    {
+      return Status::Error(std::string("the strands input lacks the cell array '") + name +
+                           "': make the strands with Hair Strands.");
+    }
+    if (a->GetNumberOfComponents() != components || a->GetNumberOfTuples() < cells)
+    {
+      return Status::Error(std::string("the strands input's cell array '") + name + "' has " +
+                           std::to_string(a->GetNumberOfTuples()) + " tuples of " +
+                           std::to_string(a->GetNumberOfComponents()) + " components for " +
+                           std::to_string(cells) + " cells; it needs one tuple of " +
+                           std::to_string(components) +
+                           " per cell: make the strands with Hair Strands.");
+    }
+    return Status::Ok();
+  };
+  vtkDataArray *normal = nullptr, *growth = nullptr;
+  if (Status s = cellArray("RootNormal", 3, normal); !s)
+  {
+    return s;
+  }
+  if (Status s = cellArray("GrowthDirection", 3, growth); !s)
+  {
+    return s;
+  }
+  const auto& table = strandParameters();
+  std::vector<vtkDataArray*> parameters(table.size());
+  for (std::size_t p = 0; p < table.size(); ++p)
+  {
+    if (Status s = cellArray(table[p].array, 1, parameters[p]); !s)
+    {
+      return s;
+    }
+  }
+  vtkCellArray* polylines = input->GetLines();
+  vtkNew<vtkIdList> ids;
+  std::vector<GuideStrand> out;
+  out.reserve(static_cast<std::size_t>(lines));
+  vtkIdType cell = firstLine;
+  for (polylines->InitTraversal(); polylines->GetNextCell(ids); ++cell)
+  {
+    if (ids->GetNumberOfIds() == 0)
+    {
+      return Status::Error("polyline " + std::to_string(cell - firstLine) +
+                           " of the strands input has no points: remove it.");
+    }
+    GuideStrand g;
+    input->GetPoint(ids->GetId(0), g.root.data());
+    normal->GetTuple(cell, g.normal.data());
+    growth->GetTuple(cell, g.growth.data());
+    for (std::size_t p = 0; p < table.size(); ++p)
+    {
+      table[p].set(g, parameters[p]->GetTuple1(cell));
+    }
+    out.push_back(g);
+  }
+  guides = std::move(out);
+  return Status::Ok();
 }
 
 void toEnergyTable(const std::vector<double>& times,

@@ -5,6 +5,7 @@
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
+#include "strands/GuideStrand.h"
 
 #include <map>
 #include <string>
@@ -55,9 +56,20 @@ Status fromImage(vtkImageData* image, CollisionTable& table, std::string* bodyPa
 /// that met the body, with the Radius and Normals arrays, in world coordinates.
 void toSurface(const CollisionTable& table, vtkPolyData* surface);
 
+/// Guide strands as polylines (each polyline's points as grown, root first), with the cell
+/// arrays of every per-strand parameter (strands/StrandParameters.h), RootNormal and
+/// GrowthDirection, and StrandId.
+void fromGuides(const std::vector<GuideStrand>& guides,
+                const std::vector<std::vector<Eigen::Vector3d>>& polylines, vtkPolyData* strands);
+
+/// Hair Strands' polylines and cell arrays back into guide strands: refuses an input without
+/// polylines, a missing cell array or one without a value per polyline, and an empty
+/// polyline, naming which.
+Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides);
+
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
-/// Speed, cell data StrandId and every per-strand parameter; the frame's time in field data
-/// ("Time").
+/// Speed, cell data StrandId and every per-strand parameter (named as the pipeline names
+/// them, strands/StrandParameters.h); the frame's time in field data ("Time").
 void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands);
 
 /// One row per frame: Time, then one column per energy term.

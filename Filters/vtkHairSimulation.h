@@ -62,6 +62,9 @@ public:
   vtkGetMacro(MotionAmplitude, double);
   vtkSetMacro(MotionFrequency, double);
   vtkGetMacro(MotionFrequency, double);
+  /// Seconds over which the motion grows from rest (0: it starts at full amplitude).
+  vtkSetMacro(MotionFadeIn, double);
+  vtkGetMacro(MotionFadeIn, double);
   vtkSetVector3Macro(MotionAxis, double);
   vtkGetVector3Macro(MotionAxis, double);
   vtkSetVector3Macro(MotionPivot, double);
@@ -136,8 +139,9 @@ protected:
   int BodyMotion = NONE;
   double MotionAmplitude = 0.5;
   double MotionFrequency = 1.0;
+  double MotionFadeIn = 0;
   double MotionAxis[3] = {0, 1, 0};
-  double MotionPivot[3] = {0, 1.45, 0.02};
+  double MotionPivot[3]; ///< the bundled body's neck (hair::bundled::neckPivot), by the constructor
   int NumberOfThreads = 2;
   double QuadratureTolerance; ///< Core's default, set by the constructor
   bool Contacts = true;
@@ -157,6 +161,9 @@ protected:
   double MemoryBudget = 0; ///< MiB, 0: half of the machine's memory
 
 private:
+  /// Builds the run from the inputs and the properties; false (with the error reported)
+  /// when they are refused.
+  bool Build(vtkInformationVector** inputVector);
   vtkHairSimulation(const vtkHairSimulation&) = delete;
   void operator=(const vtkHairSimulation&) = delete;
   struct Internals;

@@ -1,6 +1,8 @@
 #include "vtkHairStrands.h"
 
 #include "HairConversion.h"
+#include "strands/BundledBody.h"
+#include "strands/GuideGrowth.h"
 #include "strands/HairParameters.h"
 #include "strands/RootSampling.h"
 
@@ -142,11 +144,9 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
     std::vector<std::uint8_t> region;
     if (this->Region == AUTOMATIC_SCALP)
     {
-      const auto [lo, hi] = mesh.bounds();
-      const bool bundled = std::abs(lo.y()) < 0.02 && std::abs(hi.y() - 1.66) < 0.02;
-      if (bundled)
+      if (hair::bundled::isBundledBody(mesh))
       {
-        region = hair::bundledScalp(mesh);
+        region = hair::bundled::scalp(mesh);
       }
       else
       {
@@ -196,83 +196,30 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
   }
 
   // Straight strands along the growth direction.
-  const int n = this->NumberOfElements;
-  const vtkIdType strands = static_cast<vtkIdType>(roots.size());
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(strands * (n + 1));
-  vtkNew<vtkCellArray> lines;
-  const Eigen::Vector3d comb = Eigen::Vector3d(this->CombDirection).normalized();
-  if (this->Growth == COMB && !comb.allFinite())
+  hair::GrowthOptions grow;
+  grow.length = this->StrandLength;
+  grow.elements = this->NumberOfElements;
+  grow.combed = this->Growth == COMB;
+  grow.combDirection = Eigen::Vector3d(this->CombDirection);
+  grow.combWeight = this->CombWeight;
+  grow.hair = params;
+  grow.seed = static_cast<std::uint32_t>(this->Seed);
+  std::vector<hair::GuideStrand> guides;
+  if (hair::Status s = hair::growGuides(roots, grow, guides); !s)
   {
-    vtkErrorMacro(<< "Hair Strands: the comb direction is zero or NaN: give a direction.");
+    vtkErrorMacro(<< "Hair Strands: " << s.message());
     return 0;
   }
-  auto cellArray = [strands](const char* name, int components = 1)
+  std::vector<std::vector<Eigen::Vector3d>> polylines;
+  for (const hair::GuideStrand& g : guides)
   {
-    vtkSmartPointer<vtkDoubleArray> a = vtkSmartPointer<vtkDoubleArray>::New();
-    a->SetName(name);
-    a->SetNumberOfComponents(components);
-    a->SetNumberOfTuples(strands);
-    return a;
-  };
-  auto rootNormal = cellArray("RootNormal", 3), growth = cellArray("GrowthDirection", 3);
-  for (vtkIdType k = 0; k < strands; ++k)
-  {
-    Eigen::Vector3d dir = roots[k].normal;
-    if (this->Growth == COMB)
-    {
-      const Eigen::Vector3d blend = (1 - this->CombWeight) * dir + this->CombWeight * comb;
-      dir = blend.norm() > 1e-9 ? blend.normalized() : dir;
-    }
-    lines->InsertNextCell(n + 1);
-    for (int i = 0; i <= n; ++i)
-    {
-      const Eigen::Vector3d x = roots[k].position + (this->StrandLength * i / n) * dir;
-      points->SetPoint(k * (n + 1) + i, x.data());
-      lines->InsertCellPoint(k * (n + 1) + i);
-    }
-    rootNormal->SetTuple(k, roots[k].normal.data());
-    growth->SetTuple(k, dir.data());
+    polylines.push_back(hair::grownPolyline(g));
   }
-  output->SetPoints(points);
-  output->SetLines(lines);
-  vtkCellData* cd = output->GetCellData();
-  vtkNew<vtkIdTypeArray> ids;
-  ids->SetName("StrandId");
-  vtkNew<vtkIntArray> elements, type;
-  elements->SetName("NumberOfElements");
+  hair::convert::fromGuides(guides, polylines, output);
+  vtkNew<vtkIntArray> type; // for display: the preset (or Custom) the strands were grown with
   type->SetName("HairType");
-  for (vtkIdType k = 0; k < strands; ++k)
-  {
-    ids->InsertNextValue(k);
-    elements->InsertNextValue(n);
-    type->InsertNextValue(this->HairType);
-  }
-  cd->AddArray(ids);
-  cd->AddArray(elements);
-  cd->AddArray(type);
-  const std::pair<const char*, double> scalars[] = {
-      {"Length", this->StrandLength},
-      {"Radius", params.radius},
-      {"Ellipticity", params.ellipticity},
-      {"YoungModulus", params.youngModulus},
-      {"PoissonRatio", params.poissonRatio},
-      {"Density", params.density},
-      {"HelixRadius", params.helixRadius},
-      {"HelixStep", params.helixStep},
-      {"InternalFriction", params.internalFriction},
-      {"AirFriction", params.airFriction},
-      {"CurvatureVariation", params.curvatureVariation},
-      {"Seed", double(this->Seed)}};
-  for (const auto& [name, value] : scalars)
-  {
-    auto a = cellArray(name);
-    a->Fill(value);
-    cd->AddArray(a);
-  }
-  cd->AddArray(rootNormal);
-  cd->AddArray(growth);
-  cd->SetActiveScalars("StrandId");
+  type->SetNumberOfTuples(static_cast<vtkIdType>(guides.size()));
+  type->Fill(this->HairType);
+  output->GetCellData()->AddArray(type);
   return 1;
 }

@@ -7,7 +7,7 @@ Runs the executables in turn, ROUNDS times (A, B, A, B, ...), each with
 --benchmark_filter=FILTER, 3 repetitions of at least 0.3 s, and prints per benchmark the
 minimum CPU time in µs (wall time in parentheses) of each executable. Alternating whole
 processes spreads this shared machine's slow periods over all of them; the minimum is the
-least disturbed figure (docs/benchmarks-superhelix.md, "How the figures were produced").
+least disturbed figure (docs/benchmarks.md, "Machine and method").
 """
 import json
 import subprocess

@@ -17,6 +17,7 @@
 #include "contact/HairHairContacts.h"
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
+#include "strands/BundledBody.h"
 #include "superhelix/SuperHelix.h"
 
 #include <Eigen/Eigenvalues>
@@ -476,13 +477,12 @@ int scene(const Arguments& args)
   // tables).
   std::vector<GuideStrand> guides;
   SimulationOptions o;
-  o.model = model == "projective" ? StrandModel::Projective : StrandModel::SuperHelix;
+  o.model = model == "projective" ? ModelType::Projective : ModelType::SuperHelix;
   o.timeStep = dt; // the projective model steps at most 1 ms (explicit)
   o.frameInterval = 1.0 / 30;
-  o.wind = Eigen::Vector3d(0, 0, -0.5);
-  o.motion.kind = HeadMotion::Kind::Shake;
-  o.motion.amplitude = 0.5;
-  o.motion.frequency = 1.0;
+  Scene scene;
+  scene.air = AirField::uniform(Eigen::Vector3d(0, 0, -0.5));
+  scene.rootMotion = RigidMotion::shake(bundled::neckPivot(), Eigen::Vector3d::UnitY(), 0.5, 1.0);
   const Eigen::Vector3d centre(0, 1.6, 0.02);
   for (int k = 0; k < strands; ++k)
   {
@@ -499,23 +499,11 @@ int scene(const Arguments& args)
     guides.push_back(g);
   }
   Simulation sim;
-  if (s = sim.initialize(guides, {}, o); !s)
-  {
-    std::cerr << "hair_study scene: " << s.message() << "\n";
-    return 1;
-  }
+  StorageOptions storage;
+  storage.stateFile = args.text("out", "");
   const int frames = static_cast<int>(std::lround(duration * 30)) + 1;
-  if (s = sim.advanceTo(frames); !s)
-  {
-    std::cerr << "hair_study scene: " << s.message() << "\n";
-    return 1;
-  }
-  StateFileWriter w;
-  s = w.create(args.text("out", ""), sim.header(), sim.extraEnergyTerms());
-  for (int f = 0; s && f < sim.numberOfFrames(); ++f)
-    s = w.append(sim.frame(f));
-  if (s)
-    s = w.close();
+  if (s = sim.initialize(guides, scene, o, storage); s)
+    s = sim.advanceTo(frames);
   if (!s)
   {
     std::cerr << "hair_study scene: " << s.message() << "\n";

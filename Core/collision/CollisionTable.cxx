@@ -140,6 +140,18 @@ void CollisionTable::updateDerived()
                     : (Spec.secondSamples - 1) / Pi;
 }
 
+void CollisionTable::updateReach()
+{
+  Reach = 0;
+  for (std::size_t i = 0; i < Hit.size(); ++i)
+  {
+    if (Hit[i])
+    {
+      Reach = std::max(Reach, Outer[i]);
+    }
+  }
+}
+
 double CollisionTable::azimuth(int i) const
 {
   return TwoPi * i / Spec.azimuthSamples;
@@ -251,6 +263,7 @@ Status CollisionTable::build(const TableSpec& spec, const RayCaster& body, const
         vec(spec.frame.axis) +
         ") misses it. Put the origin inside the body part, or use the automatic frame.");
   }
+  t.updateReach();
   *this = std::move(t);
   return Status::Ok();
 }
@@ -292,6 +305,7 @@ Status CollisionTable::assign(const TableSpec& spec, std::vector<std::uint8_t> h
   Inner = std::move(inner);
   OuterNormal = std::move(outerNormal);
   InnerNormal = std::move(innerNormal);
+  updateReach();
   return Status::Ok();
 }
 
@@ -412,19 +426,6 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   q.normal = normal;
   q.depth = (q.surfacePoint - p).dot(normal);
   q.nearest = p + q.depth * normal;
-  return q;
-}
-
-TableQuery BodyPart::query(const Eigen::Vector3d& pWorld) const
-{
-  // R^T (p - t): the inverse of a rigid pose without forming it.
-  TableQuery q = table.query(pose.linear().transpose() * (pWorld - pose.translation()));
-  if (q.covered)
-  {
-    q.surfacePoint = pose * q.surfacePoint;
-    q.normal = pose.linear() * q.normal;
-    q.nearest = pWorld + q.depth * q.normal; // T = P + ((Q − P)·N) N, in world coordinates
-  }
   return q;
 }
 

@@ -111,27 +111,19 @@ public:
   /// Normals in world coordinates of the part at rest (the frame's own coordinates).
   const std::vector<Eigen::Vector3d>& outerNormal() const { return OuterNormal; }
   const std::vector<Eigen::Vector3d>& innerNormal() const { return InnerNormal; }
+  /// The largest outer radius of the samples that met the part: no point farther from the
+  /// axis (cylindrical) or the centre (spherical) is inside it.
+  double reach() const { return Reach; }
 
 private:
   void updateDerived(); ///< basis and scales that follow from Spec (query's hot path)
+  void updateReach();   ///< Reach, from the samples
   TableSpec Spec;
   Eigen::Matrix3d Basis = Eigen::Matrix3d::Identity();
-  double AzimuthScale = 1, SecondScale = 1;
+  double AzimuthScale = 1, SecondScale = 1, Reach = 0;
   std::vector<std::uint8_t> Hit;
   std::vector<double> Outer, Inner;
   std::vector<Eigen::Vector3d> OuterNormal, InnerNormal;
-};
-
-/// A body part: a table that moves rigidly. `pose` maps the part at rest (where its table
-/// was built) to where it is now, so a shaking head moves its table without a rebuild.
-struct BodyPart
-{
-  std::string name;
-  CollisionTable table;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-
-  /// The query of a world point; Q, N and T come back in world coordinates.
-  TableQuery query(const Eigen::Vector3d& pWorld) const;
 };
 
 } // namespace hair

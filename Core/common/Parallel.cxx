@@ -53,9 +53,4 @@ void parallelBlocks(std::int64_t count, std::int64_t grain, int threads,
   }
 }
 
-int availableProcessors()
-{
-  return std::max(1, omp_get_num_procs());
-}
-
 } // namespace hair

@@ -24,7 +24,4 @@ inline std::int64_t blockCount(std::int64_t count, std::int64_t grain)
   return count <= 0 ? 0 : (count + grain - 1) / grain;
 }
 
-/// The processors this process may run on (OpenMP's count).
-int availableProcessors();
-
 } // namespace hair

@@ -68,8 +68,8 @@ Status BodyContacts::setParameters(const BodyContactParameters& parameters)
 }
 
 bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-                              const Eigen::Vector3d& t, double linearDensity,
-                              const ContactBody& body, ContactResponse& out, double& depth) const
+                              const Eigen::Vector3d& t, double linearDensity, const PosedPart& body,
+                              ContactResponse& out, double& depth) const
 {
   const BodyContactParameters& p = Parameters;
   depth = 0;
@@ -77,10 +77,8 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   {
     return false;
   }
-  // BodyPart::query with the body's own pose: the table's query of R^T (x − t), normal
-  // back to world coordinates.
-  const TableQuery q =
-      body.table->query(body.pose.linear().transpose() * (x - body.pose.translation()));
+  // The table's query at the part's rest coordinates; the normal back to world ones.
+  const TableQuery q = body.table->query(body.toRest(x));
   if (!q.covered)
   {
     return false;
@@ -90,8 +88,8 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   depth = q.inside ? std::max(q.depth, 0.0) : std::min(q.depth, 0.0);
   const double d = depth + p.thickness; // penetration of the clump's outer layer
   const Eigen::Vector3d n = body.pose.linear() * q.normal;
-  const Eigen::Vector3d vb = body.velocity + body.angularVelocity.cross(x); // the surface's
-  const Eigen::Vector3d u = v - vb;                                         // relative
+  const Eigen::Vector3d vb = body.velocityAt(x); // the surface's
+  const Eigen::Vector3d u = v - vb;              // relative
   const double un = n.dot(u);
   // In contact: inside the layer, or outside but reaching it within the look-ahead time at
   // the current approach speed (d − h u_n > 0, u_n < 0).
@@ -142,7 +140,7 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
 }
 
 void BodyContacts::respond(const std::vector<StrandSample>& samples, double linearDensity,
-                           const ContactBody* bodies, int bodyCount,
+                           const PosedPart* bodies, int bodyCount,
                            std::vector<ContactResponse>& response, ContactSummary* summary) const
 {
   if (!Parameters.enabled || bodyCount <= 0)

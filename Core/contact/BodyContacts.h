@@ -5,7 +5,7 @@
 // its stiffness K = −∂f/∂x and damping D that SuperHelix::setContactForces expects; the
 // step treats K and D implicitly. The equations and the defaults are in
 // docs/superhelix-contacts.md.
-#include "collision/CollisionTable.h"
+#include "collision/PosedPart.h"
 #include "common/Status.h"
 #include "contact/ContactResponse.h"
 
@@ -49,26 +49,6 @@ struct BodyContactParameters
   Status validate() const;
 };
 
-/// A body part at one instant: its table, its pose (part at rest → now) and its rigid
-/// velocity field v(x) = velocity + angularVelocity × x (world coordinates, x about the
-/// world origin), so friction acts on the velocity relative to a moving head. Holds the
-/// pose itself (not a BodyPart) so that threads at different times share one table.
-struct ContactBody
-{
-  const CollisionTable* table = nullptr; ///< must outlive the call
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
-
-  static ContactBody still(const BodyPart& part)
-  {
-    ContactBody b;
-    b.table = &part.table;
-    b.pose = part.pose;
-    return b;
-  }
-};
-
 /// What one call found (for statistics; optional).
 struct ContactSummary
 {
@@ -93,7 +73,7 @@ public:
   /// is the strand's ρS [kg/m] (for the critical damping). `response` must have one entry
   /// per sample.
   void respond(const std::vector<StrandSample>& samples, double linearDensity,
-               const ContactBody* bodies, int bodyCount, std::vector<ContactResponse>& response,
+               const PosedPart* bodies, int bodyCount, std::vector<ContactResponse>& response,
                ContactSummary* summary = nullptr) const;
 
   /// The response of one sample (exposed for tests): position x, velocity v, fibre tangent
@@ -101,7 +81,7 @@ public:
   /// sample is farther than `thickness` from the surface or the table does not cover it.
   /// `depth` receives the table's penetration (Q − P)·N (> 0 inside).
   bool respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v, const Eigen::Vector3d& t,
-                  double linearDensity, const ContactBody& body, ContactResponse& out,
+                  double linearDensity, const PosedPart& body, ContactResponse& out,
                   double& depth) const;
 
 private:

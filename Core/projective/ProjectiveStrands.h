@@ -1,17 +1,17 @@
 #pragma once
 // The projective strand model of Anjyo, Usami and Kurihara (1992) as extended by Kurihara,
-// Anjyo and Thalmann (1993): each strand is a chain of k rigid segments whose directions
-// are two angles relative to the parent segment, each angle obeying a damped
-// one-dimensional angular equation with a hinge spring towards its styled rest value,
-// integrated explicitly from root to tip; nodes that enter a body part get the
-// reaction-constraint response of Platt and Barr (1988) and are put back on the surface by
-// turning their segment. The equations the code solves are in docs/projective-strands.md.
-#include "collision/CollisionTable.h"
+// Anjyo and Thalmann (1993): each strand is a chain of rigid segments (Segments.h) whose
+// angles each obey a damped one-dimensional angular equation with a hinge spring towards
+// the styled rest value, integrated explicitly from root to tip (ProjectiveStrands.cxx);
+// nodes that enter a body part get the reaction-constraint response of Platt and Barr (1988)
+// and are put back on the surface by turning their segment (Projection.cxx). The equations
+// the code solves are in docs/projective-strands.md.
+#include "collision/PosedPart.h"
 #include "common/Progress.h"
 #include "common/Status.h"
 #include "contact/ReactionConstraint.h"
-#include "scene/BodyMotion.h"
-#include "scene/AirField.h"
+#include "projective/Segments.h"
+#include "scene/Scene.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -22,50 +22,9 @@
 namespace hair
 {
 
-/// One guide strand at rest, in the coordinates of the root's body part at rest.
-struct ProjectiveStrand
-{
-  Eigen::Vector3d root = Eigen::Vector3d::Zero();
-  /// Root frame, columns (e1, e2, e3), orthonormal and right-handed. The first segment's
-  /// angles are measured in it (e3 is the straight continuation, see `direction`).
-  Eigen::Matrix3d rootFrame = Eigen::Matrix3d::Identity();
-  double segmentLength = 0.01;             ///< d, metres
-  std::vector<Eigen::Vector2d> restAngles; ///< (θ⁰, φ⁰) of each segment; its size is k
-};
-
-/// Direction of a segment in its parent's frame: θ from the parent's e1 (the pole), φ about
-/// it from e3 towards e2, so that (θ, φ) = (π/2, 0) continues the parent straight on and
-/// the rest shapes of hair lie far from the poles:
-///   u = (cos θ, sin θ sin φ, sin θ cos φ).
-Eigen::Vector3d segmentDirection(double theta, double phi);
-/// The rotation that takes the parent's frame to the child's: A = Rx(−φ) Ry(π/2 − θ).
-Eigen::Matrix3d segmentRotation(double theta, double phi);
-
-/// Builds a strand from a polyline of equal segments (relative spread ≤ 1e-6, refused
-/// otherwise): rest angles from the polyline, root frame with e3 along the first segment
-/// and e1 as close as possible to `rootSide` (any vector not parallel to the first segment).
-Status strandFromPolyline(const std::vector<Eigen::Vector3d>& points,
-                          const Eigen::Vector3d& rootSide, ProjectiveStrand& strand);
-
-/// Physical parameters, SI. Defaults: one human hair (radius 40 µm, E ≈ 4 GPa, 1300 kg/m³).
-struct ProjectiveParameters
-{
-  double linearDensity = 6.5e-6;  ///< ρA, kg/m
-  double bendingStiffness = 8e-9; ///< EI, N·m²; hinge stiffness κ = EI / d
-  double dampingRate = 2.0;       ///< α, 1/s: angular damping per unit inertia
-  /// β, s: damping proportional to the hinge stiffness (internal friction of the hinge),
-  /// γ_i = α I_i + β κ. It damps the stiff high-frequency bending of short tip segments
-  /// (ω ≈ √(3EI/(ρA d⁴))) without slowing the slow swing of the whole strand.
-  double stiffnessDamping = 1e-3;
-  double dragDiameter = 8e-5; ///< D for the air drag, m
-  Status validate() const;
-};
-
 struct ProjectiveOptions
 {
   double timeStep = 1e-3; ///< h, s
-  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
-  ProjectiveParameters parameters;
   /// Reaction constraint: stiffness per unit mass (1/s²) and damping (critical when < 0).
   ReactionConstraintOptions contact = {4.0e4, -1, true};
   /// Nodes closer than this to a surface are in contact: the constraint holds them at this
@@ -76,18 +35,8 @@ struct ProjectiveOptions
   bool projectOutside = true;
   /// The inertial force −m a of the moving roots (a = acceleration of each root).
   bool inertialForce = true;
-  int threads = 1; ///< strands are split among this many std::threads
+  int threads = 1; ///< strands are stepped on this many threads
   Status validate() const;
-};
-
-/// What a scene holds besides the strands: body parts with their motions, the motion of
-/// the strand roots (usually the head's) and the wind.
-struct ProjectiveScene
-{
-  std::vector<BodyPart> parts;     ///< tables; poses are set from `motions` at each step
-  std::vector<BodyMotion> motions; ///< one per part (empty: every part still)
-  BodyMotion rootMotion;           ///< where the roots are carried
-  GustyWind wind;
 };
 
 /// Energies (J) and cumulated works (J) since the start. With
@@ -124,16 +73,18 @@ struct ProjectiveStepStats
   int deepestPart = -1;
   double seconds = 0; ///< wall time of the step
   int threads = 1;
+  /// Adds a block's figures (counts add up, the deepest stays).
+  void merge(const ProjectiveStepStats& other);
 };
 
 class ProjectiveStrands
 {
 public:
-  /// Checks everything and sets the strands at their rest shape, at rest, at time 0.
-  /// Refuses no strands, a strand with no segments or a bad length or frame, NaN angles,
-  /// a body part with an empty table, a motion count that does not match the parts, NaN in
-  /// a motion or in the wind, and bad options, each with a message naming the culprit.
-  Status initialize(std::vector<ProjectiveStrand> strands, ProjectiveScene scene,
+  /// Checks everything and sets the strands at their rest shape, at rest, at time 0, in
+  /// the scene (its parts, motions, gravity and air). Refuses no strands, a strand with no
+  /// segments or a bad length, frame or material, NaN angles, a scene that does not
+  /// validate and bad options, each with a message naming the culprit.
+  Status initialize(std::vector<ProjectiveStrand> strands, Scene scene,
                     const ProjectiveOptions& options);
 
   /// Replaces the angles and rates of strand s (for tests and restarts) and restarts the
@@ -157,7 +108,14 @@ public:
   const std::vector<Eigen::Vector2d>& rates(int s) const { return Strands[s].qd; }
   /// Root frame of strand s now (world).
   const Eigen::Matrix3d& rootFrame(int s) const { return Strands[s].R.front(); }
-  const ProjectiveScene& scene() const { return Scene; }
+  /// Frame of segment i (1 … k) of strand s now (world; columns e1, e2, e3 = direction).
+  const Eigen::Matrix3d& segmentFrame(int s, int i) const { return Strands[s].R[i]; }
+  /// Velocities of the nodes of strand s over the last step (zero before the first).
+  const std::vector<Eigen::Vector3d>& nodeVelocities(int s) const { return Strands[s].nodeV; }
+  /// What the model found at node i (1 … k) of strand s when it placed it at the end of
+  /// the last step: the part it is deepest in or nearest to (part −1: none near).
+  const PartContact& nodeContact(int s, int i) const { return Strands[s].contact[i]; }
+  const hair::Scene& scene() const { return World; }
   const ProjectiveOptions& options() const { return Options; }
 
   /// Energies now and works since the start, summed over the strands.
@@ -167,15 +125,9 @@ public:
   std::string summary() const;
 
 private:
-  struct Contact
-  {
-    int part = -1; ///< −1: no part near
-    double depth = 0;
-    Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
-    Eigen::Vector3d surface = Eigen::Vector3d::Zero(); ///< Q, world
-  };
   struct Strand
   {
+    ProjectiveParameters material;
     double d = 0, mass = 0, kappa = 0;
     Eigen::Vector3d rootRest;
     Eigen::Matrix3d frameRest;
@@ -187,28 +139,35 @@ private:
     /// much more a force at node j moves it than it would move a free node of mass m_n.
     std::vector<double> mobility;
     std::vector<Eigen::Vector3d> P;
-    std::vector<Eigen::Matrix3d> R; ///< R[0] root frame, R[i] frame of segment i
-    std::vector<Contact> contact;   ///< per node, from the end of the previous step
+    std::vector<Eigen::Matrix3d> R;     ///< R[0] root frame, R[i] frame of segment i
+    std::vector<PartContact> contact;   ///< per node, from the end of the previous step
+    std::vector<Eigen::Vector3d> nodeV; ///< (P_i(t + h) − P_i(t)) / h of the last step
     // Scratch (per strand, so threads never share).
     std::vector<Eigen::Vector3d> v;
     double dissipated = 0, bodyWork = 0, windWork = 0, contactWork = 0, projectionWork = 0;
   };
-  struct StepFrame; // per-step data shared read-only by the threads
+  /// Everything a step needs that does not depend on the strand.
+  struct StepFrame
+  {
+    double t0 = 0, h = 0;
+    std::vector<PosedPart> parts0, parts1; ///< the parts at t0 and t0 + h
+    Eigen::Isometry3d root0, root1;        ///< the roots' pose at t0 and t0 + h
+    RigidRates rootRates;                  ///< the roots' velocity field at t0
+  };
 
   void forward(Strand& s, const Eigen::Vector3d& root, const Eigen::Matrix3d& frame) const;
   void stepStrand(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
   void forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
-  bool deepest(const StepFrame& f, const Eigen::Vector3d& p, Contact& c) const;
+  void place(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
+  bool deepest(const std::vector<PosedPart>& parts, const Eigen::Vector3d& p, PartContact& c) const;
   double gravitational(const Strand& s) const;
   double strandEnergy(const Strand& s) const;
   double unprojectedEnergy(const Strand& s, const Eigen::Vector3d& root,
                            const Eigen::Matrix3d& rootFrame) const;
 
   std::vector<Strand> Strands;
-  ProjectiveScene Scene;
+  hair::Scene World;
   ProjectiveOptions Options;
-  std::vector<double> PartReach;         ///< per part: squared radius of a ball holding its table
-  std::vector<Eigen::Vector3d> PartAxis; ///< per part: unit axis of its table frame
   double Time = 0;
   long Steps = 0;
   double StepSeconds = 0;

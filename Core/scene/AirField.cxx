@@ -6,12 +6,22 @@
 namespace hair
 {
 
-Status GustyWind::validate(const std::string& what) const
+AirField AirField::uniform(const Eigen::Vector3d& velocity)
+{
+  AirField a;
+  a.speed = velocity.norm();
+  if (a.speed > 0)
+  {
+    a.direction = velocity / a.speed;
+  }
+  return a;
+}
+
+Status AirField::validate(const std::string& what) const
 {
   auto err = [&](const std::string& s) { return Status::Error(what + ": " + s); };
   if (!direction.allFinite() || !std::isfinite(speed) || !std::isfinite(gustAmplitude) ||
-      !std::isfinite(gustPeriod) || !std::isfinite(start) || !std::isfinite(rampTime) ||
-      !std::isfinite(airDensity) || !std::isfinite(dragCoefficient))
+      !std::isfinite(gustPeriod) || !std::isfinite(start) || !std::isfinite(rampTime))
   {
     return err("holds NaN or infinite values");
   }
@@ -31,16 +41,16 @@ Status GustyWind::validate(const std::string& what) const
   {
     return err("the gust period must be > 0 s");
   }
-  if (rampTime < 0 || airDensity < 0 || dragCoefficient < 0)
+  if (rampTime < 0)
   {
-    return err("ramp time, air density and drag coefficient must be ≥ 0");
+    return err("the ramp time must be ≥ 0 s");
   }
   return Status::Ok();
 }
 
-Eigen::Vector3d GustyWind::velocity(const Eigen::Vector3d& x, double t) const
+Eigen::Vector3d AirField::velocity(const Eigen::Vector3d& x, double t) const
 {
-  if (speed <= 0 || t <= start)
+  if (speed <= 0 || t < start)
   {
     return Eigen::Vector3d::Zero();
   }
@@ -51,17 +61,23 @@ Eigen::Vector3d GustyWind::velocity(const Eigen::Vector3d& x, double t) const
     const double s = (t - start) / rampTime;
     ramp = s * s * (3 - 2 * s);
   }
+  if (gustAmplitude == 0)
+  {
+    return speed * ramp * e;
+  }
   const double phase = 6.28318530717958647692 * (t - x.dot(e) / speed) / gustPeriod;
   return speed * ramp * (1 + gustAmplitude * std::sin(phase)) * e;
 }
 
-Eigen::Vector3d GustyWind::drag(const Eigen::Vector3d& air, const Eigen::Vector3d& segmentVelocity,
-                                const Eigen::Vector3d& tangent, double length,
-                                double diameter) const
+bool AirField::isSteadyAndUniform() const
 {
-  Eigen::Vector3d w = air - segmentVelocity;
-  w -= w.dot(tangent) * tangent;
-  return 0.5 * airDensity * dragCoefficient * diameter * length * w.norm() * w;
+  return speed <= 0 || (gustAmplitude == 0 && rampTime == 0 && start <= 0);
+}
+
+AirVelocityField AirField::field() const
+{
+  const AirField air = *this;
+  return [air](const Eigen::Vector3d& x, double t) { return air.velocity(x, t); };
 }
 
 } // namespace hair

@@ -1,6 +1,6 @@
 #pragma once
-// Wind as a field of air velocity in space and time, and the drag it puts on a thin
-// cylinder (a hair segment).
+// The air around the hair: its velocity in space and time, which both models' drag acts
+// against (each with its own drag law: docs/super-helix.md, docs/projective-strands.md).
 #include "common/Status.h"
 
 #include <Eigen/Core>
@@ -11,11 +11,13 @@
 namespace hair
 {
 
-/// Wind velocity at a world position and time. Must be safe to call from several threads.
+/// Air velocity at a world position and time. Must be safe to call from several threads.
 using AirVelocityField =
     std::function<Eigen::Vector3d(const Eigen::Vector3d& position, double time)>;
 
-struct GustyWind
+/// A wind of mean speed U along a direction, with optional gusts that travel with it and an
+/// optional ramp from still air; still air by default.
+struct AirField
 {
   /// Where the air goes (normalised when used). The bundled body faces +Z, so wind "from
   /// the front" blows along −Z.
@@ -23,26 +25,26 @@ struct GustyWind
   double speed = 0;         ///< mean air speed U, m/s (0: still air, drag still damps)
   double gustAmplitude = 0; ///< relative gust strength a: speed U (1 + a sin(…)), 0 ≤ a ≤ 1
   double gustPeriod = 1;    ///< s
-  /// The wind starts at this time and reaches its mean speed over `rampTime` (smoothstep).
+  /// The wind blows from this time on, reaching its mean speed over `rampTime` (smoothstep;
+  /// 0: at once).
   double start = 0;
-  double rampTime = 0.25;
-  double airDensity = 1.2;      ///< kg/m³
-  double dragCoefficient = 1.2; ///< C_d of a cylinder across the flow (Re ~ 1–10: 1–3)
+  double rampTime = 0;
 
-  /// Refuses NaN, negative speed or density, a zero direction when speed > 0, a gust
-  /// amplitude outside [0, 1] and a period ≤ 0.
+  /// A steady, uniform wind of this velocity (m/s).
+  static AirField uniform(const Eigen::Vector3d& velocity);
+
+  /// Refuses NaN, a negative speed, a zero direction when speed > 0, a gust amplitude
+  /// outside [0, 1], a gust period ≤ 0 and a negative ramp time.
   Status validate(const std::string& what = "the wind") const;
 
   /// Air velocity at point x and time t. Gusts travel with the mean flow:
   ///   w(x, t) = U r(t) (1 + a sin(2π (t − x·ê/U) / T)) ê,  r the start ramp.
   Eigen::Vector3d velocity(const Eigen::Vector3d& x, double t) const;
-
-  /// Drag force on a straight segment of length `length` and diameter `diameter`, unit
-  /// direction `tangent`, moving at `segmentVelocity`, in air moving at `air`: only the
-  /// relative flow across the segment counts (independence principle),
-  ///   f = ½ ρ C_d D ℓ |w⊥| w⊥,  w⊥ = (I − t tᵀ)(air − segmentVelocity).
-  Eigen::Vector3d drag(const Eigen::Vector3d& air, const Eigen::Vector3d& segmentVelocity,
-                       const Eigen::Vector3d& tangent, double length, double diameter) const;
+  /// True when the velocity is the same everywhere at every time t ≥ 0: no gusts, no ramp,
+  /// a start at or before 0.
+  bool isSteadyAndUniform() const;
+  /// The field as a function (a copy of this wind).
+  AirVelocityField field() const;
 };
 
 } // namespace hair

@@ -33,8 +33,7 @@ void smoothstep(double x, double& e, double& de, double& dde)
 /// The Catmull–Rom curve through the sample translations, on interval i at s ∈ [0, 1] of
 /// it (tangents one-sided at the ends): its point and its first two time derivatives.
 void hermite(const std::vector<double>& times, const std::vector<Eigen::Isometry3d>& poses,
-             std::size_t i, double s, Eigen::Vector3d& x, Eigen::Vector3d& xd,
-             Eigen::Vector3d& xdd)
+             std::size_t i, double s, Eigen::Vector3d& x, Eigen::Vector3d& xd, Eigen::Vector3d& xdd)
 {
   const std::size_t n = times.size();
   auto point = [&](std::size_t j) { return Eigen::Vector3d(poses[j].translation()); };
@@ -67,17 +66,16 @@ void hermite(const std::vector<double>& times, const std::vector<Eigen::Isometry
 
 Status RootState::validate() const
 {
-  if (!position.allFinite() || !velocity.allFinite() || !acceleration.allFinite() ||
-      !orientation.allFinite() || !angularVelocity.allFinite() ||
-      !angularAcceleration.allFinite())
-  {
-    return Status::Error("the root state holds NaN or infinite values");
-  }
-  if (!(orientation.transpose() * orientation).isIdentity(1e-9) ||
-      std::abs(orientation.determinant() - 1) > 1e-9)
-  {
-    return Status::Error("the root orientation is not a rotation");
-  }
+  if (!(position.allFinite() && velocity.allFinite() && acceleration.allFinite() &&
+        orientation.allFinite() && angularVelocity.allFinite() && angularAcceleration.allFinite()))
+    return Status::Error("RootState: a root position, velocity, acceleration, orientation or "
+                         "angular rate is not finite. Check the head motion.");
+  const double err =
+      (orientation.transpose() * orientation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (err > 1e-9 || orientation.determinant() < 0)
+    return Status::Error(
+        "RootState: orientation is not a rotation matrix (|FᵀF − I| = " + std::to_string(err) +
+        "). Give an orthonormal, right-handed frame (n0 = tangent).");
   return Status::Ok();
 }
 
@@ -422,7 +420,8 @@ RootState RigidMotion::carried(const Eigen::Vector3d& point, const Eigen::Matrix
   return s;
 }
 
-RootMotion RigidMotion::carriedRoot(const Eigen::Vector3d& point, const Eigen::Matrix3d& frame) const
+RootMotion RigidMotion::carriedRoot(const Eigen::Vector3d& point,
+                                    const Eigen::Matrix3d& frame) const
 {
   const RigidMotion motion = *this;
   return [motion, point, frame](double t) { return motion.carried(point, frame, t); };

@@ -125,11 +125,4 @@ std::vector<std::uint8_t> capRegion(const TriangleMesh& mesh, const Eigen::Vecto
   return region;
 }
 
-std::vector<std::uint8_t> bundledScalp(const TriangleMesh& mesh)
-{
-  constexpr double Degree = 3.14159265358979323846 / 180;
-  const Eigen::Vector3d axis(0, std::cos(36.5 * Degree), -std::sin(36.5 * Degree));
-  return capRegion(mesh, Eigen::Vector3d(0, 1.555, 0.055), axis, 88 * Degree, 0.16, 0.5);
-}
-
 } // namespace hair

@@ -43,11 +43,4 @@ std::vector<std::uint8_t> capRegion(const TriangleMesh& mesh, const Eigen::Vecto
                                     const Eigen::Vector3d& axis, double halfAngle,
                                     double maxDistance, double minFacing = -1);
 
-/// The scalp of the bundled body (Data/body.vtk): a cap about the head's centre
-/// (0, 1.555, 0.055), its axis tilted 36.5° back from +Y, half-angle 88°, within 0.16 m,
-/// on triangles facing within 60° of the direction from the centre:
-/// from the hairline at the top of the forehead (y ≈ 1.615) to the nape (y ≈ 1.49), above
-/// the ears. See docs/hair-strands.md for the picture.
-std::vector<std::uint8_t> bundledScalp(const TriangleMesh& mesh);
-
 } // namespace hair

@@ -150,21 +150,6 @@ HAIR_AVX2_CLONES void stackedProductAdd(double* __restrict dst, Eigen::Index row
 
 } // namespace
 
-Status RootState::validate() const
-{
-  if (!(position.allFinite() && velocity.allFinite() && acceleration.allFinite() &&
-        orientation.allFinite() && angularVelocity.allFinite() && angularAcceleration.allFinite()))
-    return Status::Error("RootState: a root position, velocity, acceleration, orientation or "
-                         "angular rate is not finite. Check the head motion.");
-  const double err =
-      (orientation.transpose() * orientation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (err > 1e-9 || orientation.determinant() < 0)
-    return Status::Error(
-        "RootState: orientation is not a rotation matrix (|FᵀF − I| = " + std::to_string(err) +
-        "). Give an orthonormal, right-handed frame (n0 = tangent).");
-  return Status::Ok();
-}
-
 StrandSpec StrandSpec::uniform(double length, int elements, const HairParameters& hair)
 {
   StrandSpec s;

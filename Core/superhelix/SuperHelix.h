@@ -8,7 +8,7 @@
 #include "contact/ContactResponse.h"
 #include "contact/HairHairContacts.h"
 #include "scene/AirField.h"
-#include "scene/RootMotion.h"
+#include "scene/RigidMotion.h"
 #include "strands/HairParameters.h"
 #include "superhelix/HelixFunctions.h"
 #include "superhelix/Quadrature.h"

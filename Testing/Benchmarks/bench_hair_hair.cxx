@@ -11,6 +11,7 @@
 //     Each iteration is one frame: update() (timed: the benchmark's time) then stepStrands on
 //     one thread (counter step_ms). Counters: rebuilt (fraction of updates that rebuilt the
 //     grid), candidates and contacts per update.
+#include "HeadShake.h"
 #include "contact/HairHairContacts.h"
 #include "superhelix/SuperHelix.h"
 

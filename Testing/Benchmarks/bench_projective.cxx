@@ -4,7 +4,7 @@
 // and two. The same step with no body parts gives the share spent in collision:
 //   share = 1 − time(no parts) / time(head + trunk).
 // Run: bench_projective --benchmark_min_time=2 --benchmark_repetitions=3
-//        --benchmark_report_aggregates_only=true      (docs/benchmarks-projective.md)
+//        --benchmark_report_aggregates_only=true      (docs/benchmarks.md)
 #include "ProjectiveScenes.h"
 
 #include <benchmark/benchmark.h>
@@ -48,11 +48,10 @@ void stepBench(benchmark::State& state)
     return;
   }
   double duration = 0;
-  ProjectiveScene scene = paperScene(s.body, PaperScene::Wind, duration);
+  Scene scene = paperScene(s.body, PaperScene::Wind, duration);
   if (!collide)
   {
     scene.parts.clear();
-    scene.motions.clear();
   }
   ProjectiveOptions o;
   o.threads = threads;

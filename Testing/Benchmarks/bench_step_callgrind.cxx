@@ -1,4 +1,4 @@
-// Instructions per Super-Helix step, for callgrind (docs/benchmarks-superhelix.md): the
+// Instructions per Super-Helix step, for callgrind (docs/benchmarks.md): the
 // shaken strand of BM_Step (30 cm, N elements, head shaking ±30° at 3 Hz) stepped at 1/30 s,
 // 30 steps from rest and then `steps` more, so that the total over 30 + steps steps divided by
 // 30 + steps is one step's instruction count (start-up is ~0.5 % of 330 steps). Deterministic:
@@ -9,6 +9,7 @@
 //   callgrind_annotate cg.out | grep "PROGRAM TOTALS"      (÷ (30 + steps))
 //
 // It prints q after the last step with %a, so that two builds can be compared bit for bit.
+#include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
 #include <cstdio>

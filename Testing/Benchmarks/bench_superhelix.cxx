@@ -1,4 +1,4 @@
-// Cost of the Super-Helix step (docs/benchmarks-superhelix.md has the table and command).
+// Cost of the Super-Helix step (docs/benchmarks.md has the table and command).
 //   BM_Step/<preset>/<N>     one public step(1/30 s) of one 30 cm strand on a shaking head
 //                            (one linear solve; counter "substeps" must read 1)
 //   BM_Phase_*/<N>           the pieces of one step: reconstruction (kinematics at every
@@ -20,6 +20,7 @@
 //                            ways interleaved in blocks of a few µs, so that the machine's
 //                            slow periods (seconds long) hit both alike; counters: minimum
 //                            µs per call of each way, and samples per element
+#include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
 #include <benchmark/benchmark.h>
@@ -191,11 +192,11 @@ void BM_RealTimeGuides(benchmark::State& state)
   state.SetItemsProcessed(state.iterations());
 }
 
-// q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, recorded after the
-// natural-curvature fix and the per-element quadrature rule (docs/benchmarks-superhelix.md,
-// fifth revision), before that revision's speed work. A speed change must leave the results
-// the same to round-off: the step is deterministic, and 30 steps amplify a 1e-7 relative
-// perturbation of q to < 2e-7 (measured), so round-off stays < 1e-12 relative and 1e-9
+// q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, recorded once the
+// natural curvature and the per-element quadrature rule were in place, before any speed
+// work on them (Testing/Core/test_golden.cxx checks the same values in CTest). A speed change must
+// leave the results the same to round-off: the step is deterministic, and 30 steps amplify a 1e-7
+// relative perturbation of q to < 2e-7 (measured), so round-off stays < 1e-12 relative and 1e-9
 // separates it from a change of the computation.
 constexpr double ReferenceSmooth[30] = {
     1.5922737531962414,    -16.85074906169794,    5.1838328189659713,   0.98800619864179295,

@@ -17,10 +17,10 @@
 //                                 implicit contact terms cost a strand lying on the scalp. No
 //                                 gravity and a fixed root: the strand rests in its natural
 //                                 shape in both variants, so they take the same steps.
+#include "DemoScene.h"
 #include "ProjectiveScenes.h"
 #include "contact/BodyContacts.h"
 #include "simulation/Simulation.h"
-#include "strands/RootSampling.h"
 #include "superhelix/SuperHelix.h"
 
 #include <benchmark/benchmark.h>
@@ -33,67 +33,54 @@ using namespace hair;
 
 namespace
 {
-struct Scene
+struct Bench
 {
   BundledBody body;
-  HeadMotion motion;
+  Scene world; ///< the head shaking ±0.5 rad at 1 Hz about the neck, the trunk still
   BodyContacts contacts;
   std::vector<SuperHelix> strands; ///< 1 s into the shake, contacts on
 
-  /// The parts at time t: the head follows the motion, the trunk stays.
-  void bodiesAt(double t, std::vector<ContactBody>& out) const
-  {
-    Eigen::Vector3d v0, w, a0, al;
-    motion.rates(t, v0, w, a0, al);
-    out.assign(2, ContactBody());
-    out[0].table = &body.parts[body.head].table;
-    out[0].pose = motion.pose(t);
-    out[0].velocity = v0;
-    out[0].angularVelocity = w;
-    out[1].table = &body.parts[body.trunk].table;
-  }
   ContactForces hook() const
   {
     return
         [this](int, double t, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)
     {
-      thread_local std::vector<ContactBody> bodies;
-      bodiesAt(t, bodies);
-      contacts.respond(s, strands[0].spec().hair.linearDensity(), bodies.data(), 2, r);
+      thread_local std::vector<PosedPart> parts;
+      world.posedParts(t, parts);
+      contacts.respond(s, strands[0].spec().hair.linearDensity(), parts.data(), 2, r);
     };
   }
 };
 
-Scene& scene(int guides)
+/// The demo's guides, with seeds 1 + k (Simulation then adds k): the guides the recorded
+/// figures were taken with.
+std::vector<GuideStrand> benchGuides(const BundledBody& body, int count)
 {
-  static std::map<int, std::unique_ptr<Scene>> cache;
-  std::unique_ptr<Scene>& s = cache[guides];
+  std::vector<GuideStrand> guides;
+  (void)demoGuides(body, count, 10, guides);
+  for (std::size_t k = 0; k < guides.size(); ++k)
+    guides[k].seed = 1 + static_cast<std::uint32_t>(k);
+  return guides;
+}
+
+Bench& scene(int guides)
+{
+  static std::map<int, std::unique_ptr<Bench>> cache;
+  std::unique_ptr<Bench>& s = cache[guides];
   if (s)
     return *s;
-  s = std::make_unique<Scene>();
+  s = std::make_unique<Bench>();
   (void)loadBundledBody(HAIR_DATA_DIR, s->body);
-  s->motion.kind = HeadMotion::Kind::Shake;
-  s->motion.amplitude = 0.5;
-  s->motion.frequency = 1.0;
+  s->world = demoScene(s->body);
   (void)s->contacts.setParameters(BodyContactParameters());
-  std::vector<Root> roots;
-  RootSamplingOptions ro;
-  ro.count = guides;
-  (void)sampleRoots(s->body.mesh, bundledScalp(s->body.mesh), ro, roots);
-  const double flip = s->body.mesh.signedVolume() < 0 ? -1 : 1;
-  const Eigen::Vector3d comb = Eigen::Vector3d(0, -1, -0.3).normalized();
-  s->strands.resize(roots.size());
-  for (std::size_t k = 0; k < roots.size(); ++k)
+  const std::vector<GuideStrand> g = benchGuides(s->body, guides);
+  s->strands.resize(g.size());
+  for (std::size_t k = 0; k < g.size(); ++k)
   {
     StrandSpec spec = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType::Wavy));
     spec.id = static_cast<int>(k);
-    spec.seed = 1 + static_cast<std::uint32_t>(k);
-    const Eigen::Vector3d n = flip * roots[k].normal;
-    Eigen::Matrix3d f0;
-    f0.col(0) = (0.65 * n + 0.35 * comb).normalized();
-    f0.col(1) = (n - n.dot(f0.col(0)) * f0.col(0)).normalized();
-    f0.col(2) = f0.col(0).cross(f0.col(1));
-    spec.root = s->motion.carriedRoot(roots[k].position, f0);
+    spec.seed = g[k].seed;
+    spec.root = s->world.rootMotion.carriedRoot(g[k].root, g[k].rootFrame());
     (void)s->strands[k].initialize(spec);
     s->strands[k].setContactForces(s->hook());
   }
@@ -104,7 +91,7 @@ Scene& scene(int guides)
 
 void BM_Step(benchmark::State& state)
 {
-  Scene& s = scene(static_cast<int>(state.range(0)));
+  Bench& s = scene(static_cast<int>(state.range(0)));
   const bool contacts = state.range(1) != 0;
   const int threads = static_cast<int>(state.range(2));
   std::vector<SuperHelix> strands = s.strands; // the same state for both variants
@@ -132,12 +119,12 @@ void BM_Step(benchmark::State& state)
 
 void BM_Respond(benchmark::State& state)
 {
-  Scene& s = scene(static_cast<int>(state.range(0)));
+  Bench& s = scene(static_cast<int>(state.range(0)));
   std::vector<std::vector<StrandSample>> samples;
   for (const SuperHelix& h : s.strands)
     samples.push_back(h.samples());
-  std::vector<ContactBody> bodies;
-  s.bodiesAt(1.0, bodies);
+  std::vector<PosedPart> bodies;
+  s.world.posedParts(1.0, bodies);
   std::vector<ContactResponse> r;
   const double rhoS = s.strands[0].spec().hair.linearDensity();
   for (auto _ : state)
@@ -199,38 +186,13 @@ void BM_StrandInContact(benchmark::State& state)
 }
 void BM_SimulationFrame(benchmark::State& state)
 {
-  Scene& s = scene(1000); // for the body, its tables and the roots' layout
-  static std::vector<Root> roots;
-  if (roots.empty())
-  {
-    RootSamplingOptions ro;
-    ro.count = 1000;
-    (void)sampleRoots(s.body.mesh, bundledScalp(s.body.mesh), ro, roots);
-  }
-  const double flip = s.body.mesh.signedVolume() < 0 ? -1 : 1;
-  const Eigen::Vector3d comb = Eigen::Vector3d(0, -1, -0.3).normalized();
-  std::vector<GuideStrand> guides(roots.size());
-  for (std::size_t k = 0; k < roots.size(); ++k)
-  {
-    const Eigen::Vector3d n = flip * roots[k].normal;
-    guides[k].root = roots[k].position;
-    guides[k].normal = n;
-    guides[k].growth = (0.65 * n + 0.35 * comb).normalized();
-    guides[k].length = 0.3;
-    guides[k].elements = 10;
-    guides[k].hair = HairParameters::preset(HairType::Wavy);
-    guides[k].seed = 1 + static_cast<std::uint32_t>(k);
-  }
-  std::vector<SimulationPart> parts(2);
-  parts[0].part = s.body.parts[s.body.head];
-  parts[0].movesWithHead = true;
-  parts[1].part = s.body.parts[s.body.trunk];
+  Bench& s = scene(1000); // for the body, its tables and the roots' layout
+  static const std::vector<GuideStrand> guides = benchGuides(s.body, 1000);
+  const Scene world = demoScene(s.body);
   SimulationOptions o;
-  o.motion = s.motion;
-  o.wind = Eigen::Vector3d(0, 0, -0.5);
   o.threads = static_cast<int>(state.range(0));
   Simulation sim;
-  Status st = sim.initialize(guides, parts, o);
+  Status st = sim.initialize(guides, world, o);
   if (!st)
   {
     state.SkipWithError(st.message().c_str());
@@ -242,7 +204,7 @@ void BM_SimulationFrame(benchmark::State& state)
     if (frames == 61) // 2 s, then again from the start (frames are kept in memory)
     {
       state.PauseTiming();
-      st = sim.initialize(guides, parts, o);
+      st = sim.initialize(guides, world, o);
       frames = 1;
       state.ResumeTiming();
     }

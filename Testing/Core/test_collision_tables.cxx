@@ -5,6 +5,7 @@
 #include "AnalyticBodies.h"
 #include "collision/BodyPartList.h"
 #include "collision/CollisionTable.h"
+#include "collision/PosedPart.h"
 #include "contact/ReactionConstraint.h"
 #include "geometry/MeshIO.h"
 
@@ -387,8 +388,9 @@ TEST(CollisionTable, RigidMotionMovesTheTableWithoutRebuild)
   Ellipsoid body(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.8, 1.2, 0.6));
   TableSpec t;
   t.projection = Projection::Spherical;
-  BodyPart part;
-  ASSERT_TRUE(part.table.build(t, body).ok());
+  CollisionTable table;
+  ASSERT_TRUE(table.build(t, body).ok());
+  PosedPart part = PosedPart::still(table);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   pose.translation() = Eigen::Vector3d(0.3, -1, 2);

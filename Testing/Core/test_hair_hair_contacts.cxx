@@ -4,6 +4,7 @@
 // forces; the strands' own energy budget (docs/super-helix.md) for the contact work; the
 // static penetration of a penalty, load / stiffness.
 #include "ClumpScene.h"
+#include "HeadShake.h"
 #include "contact/HairHairContacts.h"
 #include "superhelix/SuperHelix.h"
 

@@ -7,8 +7,8 @@
 #include "collision/CollisionTable.h"
 #include "projective/Cluster.h"
 #include "projective/ProjectiveStrands.h"
-#include "scene/BodyMotion.h"
 #include "scene/AirField.h"
+#include "scene/Scene.h"
 
 #include <gtest/gtest.h>
 
@@ -51,21 +51,48 @@ ProjectiveStrand curly(const Eigen::Vector3d& root, int k, double d)
   return s;
 }
 
-BodyPart spherePart(const Eigen::Vector3d& centre, double radius, const std::string& name)
+ScenePart spherePart(const Eigen::Vector3d& centre, double radius, const std::string& name)
 {
   hairtest::Ellipsoid sphere(centre, Eigen::Vector3d::Constant(radius));
   TableSpec spec;
   spec.projection = Projection::Spherical;
   spec.frame.origin = centre;
-  BodyPart part;
+  ScenePart part;
   part.name = name;
   EXPECT_TRUE(part.table.build(spec, sphere).ok());
   return part;
 }
 
-ProjectiveOptions quiet()
+/// The options these tests vary, material and gravity included (which the model takes
+/// from each strand and from the scene).
+struct TestOptions : ProjectiveOptions
 {
-  ProjectiveOptions o;
+  ProjectiveParameters parameters;
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
+};
+
+Status initialize(ProjectiveStrands& sim, std::vector<ProjectiveStrand> strands, Scene scene,
+                  const TestOptions& o)
+{
+  for (ProjectiveStrand& s : strands)
+  {
+    s.parameters = o.parameters;
+  }
+  scene.gravity = o.gravity;
+  return sim.initialize(std::move(strands), std::move(scene), o);
+}
+
+/// An oscillation in the paper's form: from `start` for `cycles` periods, fading in and
+/// out over a quarter period (at most half its length).
+RigidMotion paperMotion(RigidMotion m, double start = 0, double cycles = 1.5)
+{
+  const double period = 1 / m.frequency();
+  return m.during(start, cycles).fading(std::min(0.25 * period, 0.5 * cycles * period));
+}
+
+TestOptions quiet()
+{
+  TestOptions o;
   o.parameters.dragDiameter = 0;
   o.parameters.dampingRate = 0;
   o.parameters.stiffnessDamping = 0;
@@ -94,7 +121,7 @@ TEST(ProjectiveGeometry, PolylineRoundTrip)
 {
   const ProjectiveStrand s = curly(Eigen::Vector3d(0.1, 1.6, 0), 30, 0.01);
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize({s}, {}, quiet()).ok());
+  ASSERT_TRUE(initialize(sim, {s}, {}, quiet()).ok());
   // Rebuild the polyline independently and compare with the simulator's nodes.
   std::vector<Eigen::Vector3d> pts(31);
   pts[0] = Eigen::Vector3d(0.1, 1.6, 0);
@@ -116,13 +143,14 @@ TEST(ProjectiveStrands, SegmentLengthsStayExact)
 {
   // Hard case: gravity, wind with gusts, a shaking head with contact, 40 segments.
   const Eigen::Vector3d centre(0, 1.55, 0);
-  ProjectiveScene scene;
+  Scene scene;
   scene.parts.push_back(spherePart(centre, 0.09, "head"));
-  scene.motions.push_back(BodyMotion::shake(centre - Eigen::Vector3d(0, 0.1, 0),
-                                            Eigen::Vector3d::UnitY(), 0.6, 0.5, 0));
-  scene.rootMotion = scene.motions[0];
-  scene.wind.speed = 3;
-  scene.wind.gustAmplitude = 0.5;
+  scene.parts[0].motion = paperMotion(
+      RigidMotion::shake(centre - Eigen::Vector3d(0, 0.1, 0), Eigen::Vector3d::UnitY(), 0.6, 2.0));
+  scene.rootMotion = scene.parts[0].motion;
+  scene.air.speed = 3;
+  scene.air.gustAmplitude = 0.5;
+  scene.air.rampTime = 0.25;
   std::vector<ProjectiveStrand> strands;
   for (int n = 0; n < 8; ++n)
   {
@@ -132,7 +160,7 @@ TEST(ProjectiveStrands, SegmentLengthsStayExact)
         straight(centre + 0.0905 * dir.normalized(), dir, Eigen::Vector3d::UnitY(), 40, 0.008));
   }
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize(strands, scene, ProjectiveOptions()).ok());
+  ASSERT_TRUE(initialize(sim, strands, scene, TestOptions()).ok());
   double worst = 0;
   for (int step = 0; step < 1000; ++step)
   {
@@ -154,14 +182,14 @@ TEST(ProjectiveStrands, SegmentLengthsStayExact)
 
 TEST(ProjectiveStrands, StyledHairWithoutForcesStaysPut)
 {
-  ProjectiveOptions o = ProjectiveOptions();
+  TestOptions o = TestOptions();
   o.gravity.setZero();
   std::vector<ProjectiveStrand> strands = {curly(Eigen::Vector3d(0, 1.6, 0), 40, 0.01),
                                            straight(Eigen::Vector3d(0.05, 1.6, 0),
                                                     Eigen::Vector3d(1, 0.2, 0),
                                                     Eigen::Vector3d::UnitY(), 40, 0.01)};
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize(strands, {}, o).ok());
+  ASSERT_TRUE(initialize(sim, strands, {}, o).ok());
   std::vector<std::vector<Eigen::Vector3d>> start = {sim.nodes(0), sim.nodes(1)};
   ASSERT_TRUE(sim.advance(1.0).ok());
   for (int s = 0; s < 2; ++s)
@@ -184,12 +212,13 @@ TEST(ProjectiveStrands, ReleasedUnderGravitySettlesWithEnergyFalling)
   // driving. The explicit (symplectic Euler) scheme keeps the modified energy E + (h/2)
   // q̇·Q_cons, not E itself (Hairer, Lubich, Wanner, Geometric Numerical Integration,
   // IX.3); without driving it can only lose it to damping and drag.
-  ProjectiveOptions o;
+  TestOptions o;
   o.timeStep = 5e-4;
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize({straight(Eigen::Vector3d(0, 1.6, 0), Eigen::Vector3d::UnitX(),
-                                       Eigen::Vector3d::UnitY(), 40, 0.01)},
-                             {}, o)
+  ASSERT_TRUE(initialize(sim,
+                         {straight(Eigen::Vector3d(0, 1.6, 0), Eigen::Vector3d::UnitX(),
+                                   Eigen::Vector3d::UnitY(), 40, 0.01)},
+                         {}, o)
                   .ok());
   ProjectiveEnergy prev = sim.energy();
   const double e0 = prev.total();
@@ -220,7 +249,7 @@ namespace
 void pendulum(double rate, double& period, double& decay)
 {
   const double d = 0.1, alpha0 = 0.05, h = 1e-4;
-  ProjectiveOptions o = quiet();
+  TestOptions o = quiet();
   o.parameters.bendingStiffness = 0;
   o.parameters.dampingRate = rate;
   o.timeStep = h;
@@ -233,7 +262,7 @@ void pendulum(double rate, double& period, double& decay)
   s.rootFrame.col(2) = -Eigen::Vector3d::UnitY();
   s.restAngles = {Eigen::Vector2d(Pi / 2, 0)};
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize({s}, {}, o).ok());
+  ASSERT_TRUE(initialize(sim, {s}, {}, o).ok());
   ASSERT_TRUE(
       sim.setState(0, {Eigen::Vector2d(Pi / 2 - alpha0, 0)}, {Eigen::Vector2d::Zero()}).ok());
   // Upward zero crossings of α = π/2 − θ, interpolated linearly.
@@ -299,19 +328,20 @@ TEST(ProjectiveEnergyBudget, ResidualConvergesAtFirstOrder)
   // explicit method halves when h halves.
   auto residual = [](double h)
   {
-    ProjectiveOptions o;
+    TestOptions o;
     o.timeStep = h;
-    ProjectiveScene scene;
-    scene.rootMotion =
-        BodyMotion::nod(Eigen::Vector3d(0, 1.45, 0), Eigen::Vector3d::UnitX(), 0.4, 0.6, 0.1);
-    scene.wind.speed = 2;
-    scene.wind.gustAmplitude = 0.4;
-    scene.wind.gustPeriod = 0.5;
+    Scene scene;
+    scene.rootMotion = paperMotion(
+        RigidMotion::nod(Eigen::Vector3d(0, 1.45, 0), Eigen::Vector3d::UnitX(), 0.4, 1 / 0.6), 0.1);
+    scene.air.speed = 2;
+    scene.air.gustAmplitude = 0.4;
+    scene.air.gustPeriod = 0.5;
+    scene.air.rampTime = 0.25;
     std::vector<ProjectiveStrand> strands = {straight(Eigen::Vector3d(0, 1.6, 0.0),
                                                       Eigen::Vector3d(0, 0.3, 1),
                                                       Eigen::Vector3d::UnitX(), 20, 0.015)};
     ProjectiveStrands sim;
-    EXPECT_TRUE(sim.initialize(strands, scene, o).ok());
+    EXPECT_TRUE(initialize(sim, strands, scene, o).ok());
     EXPECT_TRUE(sim.advance(1.0).ok());
     const ProjectiveEnergy e = sim.energy();
     return std::make_pair(std::abs(e.residual),
@@ -338,7 +368,7 @@ TEST(ProjectiveContact, DrapesOverASphereWithoutEnteringIt)
   // the exact sphere up to round-off, pushed out by the projection.
   const Eigen::Vector3d centre(0, 1, 0);
   const double radius = 0.1;
-  ProjectiveScene scene;
+  Scene scene;
   scene.parts.push_back(spherePart(centre, radius, "ball"));
   std::vector<ProjectiveStrand> strands;
   for (int n = 0; n < 6; ++n)
@@ -349,10 +379,10 @@ TEST(ProjectiveContact, DrapesOverASphereWithoutEnteringIt)
     strands.push_back(straight(root, Eigen::Vector3d(std::cos(a), 0, std::sin(a)),
                                Eigen::Vector3d::UnitY(), 30, 0.01));
   }
-  ProjectiveOptions o;
+  TestOptions o;
   o.parameters.bendingStiffness = 1e-9; // limp: it has to lie on the ball
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize(strands, scene, o).ok());
+  ASSERT_TRUE(initialize(sim, strands, scene, o).ok());
   double closest = 1e9;
   long contacts = 0;
   for (int step = 0; step < 3000; ++step)
@@ -386,9 +416,9 @@ TEST(ProjectiveContact, ShakingBallPushesHairOut)
   // table must push the nodes out, never let the surface pass over them.
   const Eigen::Vector3d centre(0, 1, 0);
   const double radius = 0.08;
-  ProjectiveScene scene;
+  Scene scene;
   scene.parts.push_back(spherePart(centre, radius, "ball"));
-  scene.motions.push_back(BodyMotion::verticalOscillation(Eigen::Vector3d::UnitX(), 0.15, 1.0));
+  scene.parts[0].motion = paperMotion(RigidMotion::vertical(Eigen::Vector3d::UnitX(), 0.15, 1.0));
   std::vector<ProjectiveStrand> strands;
   for (int n = 0; n < 5; ++n)
   {
@@ -396,7 +426,7 @@ TEST(ProjectiveContact, ShakingBallPushesHairOut)
                                -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 40, 0.01));
   }
   ProjectiveStrands sim;
-  ASSERT_TRUE(sim.initialize(strands, scene, ProjectiveOptions()).ok());
+  ASSERT_TRUE(initialize(sim, strands, scene, TestOptions()).ok());
   double worst = -1;
   long projections = 0;
   for (int step = 0; step < 1500; ++step)
@@ -404,7 +434,7 @@ TEST(ProjectiveContact, ShakingBallPushesHairOut)
     ProjectiveStepStats st;
     ASSERT_TRUE(sim.step(&st).ok());
     projections += st.projections;
-    const Eigen::Vector3d c = scene.motions[0].pose(sim.time()) * centre;
+    const Eigen::Vector3d c = scene.parts[0].motion.pose(sim.time()) * centre;
     for (int s = 0; s < sim.numberOfStrands(); ++s)
     {
       for (std::size_t i = 1; i < sim.nodes(s).size(); ++i)
@@ -420,9 +450,10 @@ TEST(ProjectiveContact, ShakingBallPushesHairOut)
 TEST(ProjectiveThreads, TwoThreadsGiveTheSameResult)
 {
   const Eigen::Vector3d centre(0, 1.55, 0);
-  ProjectiveScene scene;
+  Scene scene;
   scene.parts.push_back(spherePart(centre, 0.09, "head"));
-  scene.wind.speed = 1;
+  scene.air.speed = 1;
+  scene.air.rampTime = 0.25;
   std::vector<ProjectiveStrand> strands;
   for (int n = 0; n < 7; ++n)
   {
@@ -431,11 +462,11 @@ TEST(ProjectiveThreads, TwoThreadsGiveTheSameResult)
     strands.push_back(
         straight(centre + 0.0905 * dir.normalized(), dir, Eigen::Vector3d::UnitY(), 20, 0.01));
   }
-  ProjectiveOptions one, two;
+  TestOptions one, two;
   two.threads = 2;
   ProjectiveStrands a, b;
-  ASSERT_TRUE(a.initialize(strands, scene, one).ok());
-  ASSERT_TRUE(b.initialize(strands, scene, two).ok());
+  ASSERT_TRUE(initialize(a, strands, scene, one).ok());
+  ASSERT_TRUE(initialize(b, strands, scene, two).ok());
   ASSERT_TRUE(a.advance(0.3).ok());
   ASSERT_TRUE(b.advance(0.3).ok());
   // Strands are independent: the split among threads cannot change a single bit.
@@ -450,8 +481,9 @@ TEST(ProjectiveThreads, TwoThreadsGiveTheSameResult)
 
 TEST(ProjectiveMotion, ShakeTurnsLeftRightLeft)
 {
-  const BodyMotion m =
-      BodyMotion::shake(Eigen::Vector3d(0, 1.45, 0), Eigen::Vector3d::UnitY(), 0.5, 1.0, 0.2, 1.5);
+  const RigidMotion m = paperMotion(
+      RigidMotion::shake(Eigen::Vector3d(0, 1.45, 0), Eigen::Vector3d::UnitY(), 0.5, 1.0), 0.2,
+      1.5);
   ASSERT_TRUE(m.validate().ok());
   // Quarter periods after the start: left (+), right (−), left (+); the envelope is
   // full there (its ramps last a quarter period).
@@ -482,7 +514,7 @@ TEST(ProjectiveMotion, SamplesInterpolateThroughTheirPoses)
     p.translation() = Eigen::Vector3d(0.01 * i * i, 0, 0);
     poses.push_back(p);
   }
-  const BodyMotion m = BodyMotion::samples(t, poses);
+  const RigidMotion m = RigidMotion::samples(t, poses);
   ASSERT_TRUE(m.validate().ok());
   for (int i = 0; i < 4; ++i)
   {
@@ -498,14 +530,22 @@ TEST(ProjectiveMotion, SamplesInterpolateThroughTheirPoses)
 
 TEST(ProjectiveWind, DragIsAcrossTheSegmentAndQuadratic)
 {
-  GustyWind w;
+  AirField w;
   w.speed = 2;
+  const ProjectiveParameters hair; // ρ_air = 1.2 kg/m³, C_d = 1.2
+  auto drag = [&](const Eigen::Vector3d& air, const Eigen::Vector3d& v, const Eigen::Vector3d& t,
+                  double length, double diameter)
+  {
+    ProjectiveParameters m = hair;
+    m.dragDiameter = diameter;
+    return segmentDrag(m, air, v, t, length);
+  };
   const Eigen::Vector3d air = w.velocity(Eigen::Vector3d::Zero(), 10);
   EXPECT_LT((air - Eigen::Vector3d(0, 0, -2)).norm(), 1e-15); // from the front, mean speed
   // Along the segment: no drag. Across: ½ ρ C_d D ℓ |w|².
-  EXPECT_EQ(w.drag(air, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.01, 1e-4).norm(), 0);
+  EXPECT_EQ(drag(air, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.01, 1e-4).norm(), 0);
   const Eigen::Vector3d f =
-      w.drag(air, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.01, 1e-4);
+      drag(air, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.01, 1e-4);
   EXPECT_NEAR(f.z(), -0.5 * 1.2 * 1.2 * 1e-4 * 0.01 * 4, 1e-18);
 }
 
@@ -554,52 +594,47 @@ TEST(ProjectiveInput, BadInputIsRefusedWithAClearMessage)
     EXPECT_NE(st.message().find(words), std::string::npos) << st.message();
   };
   ProjectiveStrands sim;
-  refused(sim.initialize({}, {}, ProjectiveOptions()), "no strands");
+  refused(initialize(sim, {}, {}, TestOptions()), "no strands");
 
   ProjectiveStrand empty = good;
   empty.restAngles.clear();
-  refused(sim.initialize({good, empty}, {}, ProjectiveOptions()), "strand 1 has zero segments");
+  refused(initialize(sim, {good, empty}, {}, TestOptions()), "strand 1 has zero segments");
 
-  ProjectiveScene withEmptyPart;
+  Scene withEmptyPart;
   withEmptyPart.parts.emplace_back();
   withEmptyPart.parts.back().name = "trunk";
-  refused(sim.initialize({good}, withEmptyPart, ProjectiveOptions()),
+  refused(initialize(sim, {good}, withEmptyPart, TestOptions()),
           "body part 'trunk' has an empty collision table");
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  ProjectiveScene nanShake;
+  Scene nanShake;
   nanShake.rootMotion =
-      BodyMotion::shake(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), nan, 1);
-  refused(sim.initialize({good}, nanShake, ProjectiveOptions()), "root motion");
+      RigidMotion::shake(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), nan, 1);
+  refused(initialize(sim, {good}, nanShake, TestOptions()), "root motion");
 
   Eigen::Isometry3d bad = Eigen::Isometry3d::Identity();
   bad.translation().x() = nan;
-  ProjectiveScene nanSamples;
-  nanSamples.rootMotion = BodyMotion::samples({0, 1}, {Eigen::Isometry3d::Identity(), bad});
-  refused(sim.initialize({good}, nanSamples, ProjectiveOptions()), "pose 1 holds NaN");
+  Scene nanSamples;
+  nanSamples.rootMotion = RigidMotion::samples({0, 1}, {Eigen::Isometry3d::Identity(), bad});
+  refused(initialize(sim, {good}, nanSamples, TestOptions()), "pose 1 holds NaN");
 
-  ProjectiveScene nanPivot;
+  Scene nanPivot;
   nanPivot.parts.push_back(spherePart(Eigen::Vector3d::Zero(), 0.1, "head"));
-  nanPivot.motions.push_back(
-      BodyMotion::nod(Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d::UnitX(), 0.3, 1));
-  refused(sim.initialize({good}, nanPivot, ProjectiveOptions()), "motion of body part 'head'");
+  nanPivot.parts[0].motion =
+      RigidMotion::nod(Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d::UnitX(), 0.3, 1);
+  refused(initialize(sim, {good}, nanPivot, TestOptions()), "motion of body part 'head'");
 
-  ProjectiveScene countMismatch;
-  countMismatch.parts.push_back(spherePart(Eigen::Vector3d::Zero(), 0.1, "head"));
-  countMismatch.motions.resize(2);
-  refused(sim.initialize({good}, countMismatch, ProjectiveOptions()), "one motion per part");
-
-  ProjectiveScene nanWind;
-  nanWind.wind.speed = nan;
-  refused(sim.initialize({good}, nanWind, ProjectiveOptions()), "wind");
+  Scene nanWind;
+  nanWind.air.speed = nan;
+  refused(initialize(sim, {good}, nanWind, TestOptions()), "wind");
 
   ProjectiveStrand nanAngle = good;
   nanAngle.restAngles[2].x() = nan;
-  refused(sim.initialize({nanAngle}, {}, ProjectiveOptions()), "rest angle is NaN");
+  refused(initialize(sim, {nanAngle}, {}, TestOptions()), "rest angle is NaN");
 
-  ProjectiveOptions zeroStep;
+  TestOptions zeroStep;
   zeroStep.timeStep = 0;
-  refused(sim.initialize({good}, {}, zeroStep), "time step");
+  refused(initialize(sim, {good}, {}, zeroStep), "time step");
 
   ProjectiveStrand unequal;
   refused(strandFromPolyline({{0, 0, 0}, {0, 0.01, 0}, {0, 0.03, 0}}, Eigen::Vector3d::UnitX(),

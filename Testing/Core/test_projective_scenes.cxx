@@ -100,7 +100,7 @@ Shared& shared()
     const Status st = loadBundledBody(HAIR_DATA_DIR, s->body);
     EXPECT_TRUE(st.ok()) << st.message();
     s->mesh = std::make_unique<MeshQueries>(s->body.mesh);
-    for (const BodyPart& part : s->body.parts)
+    for (const ScenePart& part : s->body.parts)
     {
       s->tolerance.push_back(tableError(part.table, *s->mesh));
     }
@@ -125,7 +125,7 @@ void meshCheck(const ProjectiveStrands& sim, Figures& fig)
 {
   Shared& sh = shared();
   const BundledBody& b = sh.body;
-  const Eigen::Isometry3d headInv = sim.scene().parts[b.head].pose.inverse();
+  const Eigen::Isometry3d headInv = sim.scene().parts[b.head].motion.pose(sim.time()).inverse();
   auto inHead = [&](const Eigen::Vector3d& x)
   { return (x - b.headCentre).norm() < 0.16 && x.y() > 1.42; };
   long inside = 0;
@@ -165,7 +165,7 @@ Figures run(PaperScene which, int strands, int threads, bool print)
   std::vector<ProjectiveStrand> guides;
   EXPECT_TRUE(scalpStrands(sh.body, so, guides).ok());
   double duration = 0;
-  ProjectiveScene scene = paperScene(sh.body, which, duration);
+  Scene scene = paperScene(sh.body, which, duration);
   ProjectiveOptions o;
   o.threads = threads;
   ProjectiveStrands sim;

@@ -2,6 +2,7 @@
 // spacing of a hexagonal packing, the densest arrangement of equal discs: Thue), seeded.
 #include "AnalyticBodies.h"
 #include "geometry/MeshIO.h"
+#include "strands/BundledBody.h"
 #include "strands/RootSampling.h"
 
 #include <gtest/gtest.h>
@@ -70,7 +71,7 @@ TEST(RootSampling, BundledScalpIsAboveTheEarsAndBehindTheHairline)
 {
   TriangleMesh body;
   ASSERT_TRUE(readVtkPolyData(std::string(HAIR_DATA_DIR) + "/body.vtk", body).ok());
-  const auto scalp = bundledScalp(body);
+  const auto scalp = bundled::scalp(body);
   RootSamplingOptions o;
   o.count = 500;
   std::vector<Root> roots;

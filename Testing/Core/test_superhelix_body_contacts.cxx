@@ -27,19 +27,19 @@ constexpr double Dt = 1.0 / 30;
 /// inside it: the scene of the single-sample response tests.
 struct SphereSample
 {
-  BodyPart part;
+  CollisionTable table;
   Eigen::Vector3d x = Eigen::Vector3d(0.03, 0.09, 0.02).normalized() * 0.0995;
   SphereSample()
   {
     const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
     TableSpec spec;
     spec.projection = Projection::Spherical;
-    EXPECT_TRUE(part.table.build(spec, sphere).ok());
+    EXPECT_TRUE(table.build(spec, sphere).ok());
   }
 };
 
 /// Installs the body contacts of `parts` (still) on a strand.
-void attach(SuperHelix& h, const BodyContacts& contacts, const std::vector<ContactBody>& bodies)
+void attach(SuperHelix& h, const BodyContacts& contacts, const std::vector<PosedPart>& bodies)
 {
   const double rhoS = h.spec().hair.linearDensity();
   h.setContactForces(
@@ -58,11 +58,11 @@ double maxSpeed(const SuperHelix& h)
 
 /// Deepest table penetration (Q − P)·N over the samples, signed by the inside test (< 0:
 /// every sample outside).
-double tableDepth(const SuperHelix& h, const std::vector<BodyPart>& parts)
+double tableDepth(const SuperHelix& h, const std::vector<PosedPart>& parts)
 {
   double d = -1e300;
   for (const StrandSample& s : h.samples())
-    for (const BodyPart& p : parts)
+    for (const PosedPart& p : parts)
     {
       const TableQuery q = p.query(s.position);
       if (q.covered)
@@ -111,7 +111,7 @@ TEST(BodyContacts, ResponseIsTheDerivativeOfTheForce)
   prm.friction = 0;
   BodyContacts c;
   ASSERT_TRUE(c.setParameters(prm).ok());
-  const ContactBody body = ContactBody::still(scene.part);
+  const PosedPart body = PosedPart::still(scene.table);
   const Eigen::Vector3d& x = scene.x;
   const Eigen::Vector3d v(0.01, -0.02, 0.005), t = Eigen::Vector3d::UnitX();
   const double rhoS = 1e-5;
@@ -148,14 +148,14 @@ TEST(BodyContacts, FrictionActsOnTheVelocityRelativeToTheMovingBody)
   // friction, and adding the same velocity to the sample and the body changes nothing
   // (the look-ahead term k h n·v_b aside, which is set to zero here).
   const SphereSample scene;
-  const BodyPart& part = scene.part;
+  const CollisionTable& part = scene.table;
   BodyContactParameters prm;
   prm.lookAhead = 0;
   BodyContacts c;
   ASSERT_TRUE(c.setParameters(prm).ok());
   const Eigen::Vector3d& x = scene.x;
   const Eigen::Vector3d t = Eigen::Vector3d::UnitX(), w(0.3, -2.0, 0.5), v0(0.1, 0.05, -0.2);
-  ContactBody body = ContactBody::still(part);
+  PosedPart body = PosedPart::still(part);
   body.velocity = v0;
   body.angularVelocity = w;
   const Eigen::Vector3d vb = v0 + w.cross(x);
@@ -163,13 +163,13 @@ TEST(BodyContacts, FrictionActsOnTheVelocityRelativeToTheMovingBody)
   double depth = 0;
   ASSERT_TRUE(c.respondOne(x, vb, t, 1e-5, body, moving, depth));
   ASSERT_TRUE(
-      c.respondOne(x, Eigen::Vector3d::Zero(), t, 1e-5, ContactBody::still(part), still, depth));
+      c.respondOne(x, Eigen::Vector3d::Zero(), t, 1e-5, PosedPart::still(part), still, depth));
   EXPECT_LT((moving.force - still.force).norm(), 1e-12 * still.force.norm());
   // Sliding at 5 cm/s relative to the moving body and to the still one: the same response.
   const Eigen::Vector3d slip = Eigen::Vector3d(0.05, 0, 0);
   ContactResponse a, b;
   ASSERT_TRUE(c.respondOne(x, vb + slip, t, 1e-5, body, a, depth));
-  ASSERT_TRUE(c.respondOne(x, slip, t, 1e-5, ContactBody::still(part), b, depth));
+  ASSERT_TRUE(c.respondOne(x, slip, t, 1e-5, PosedPart::still(part), b, depth));
   EXPECT_LT((a.force - b.force).norm(), 1e-12 * b.force.norm());
   EXPECT_LT((a.damping - b.damping).norm(), 1e-12 * b.damping.norm());
 }
@@ -189,12 +189,12 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   const double R = 0.08, L = 0.2;
   const Eigen::Vector3d centre(0, 0, 0);
   const Ellipsoid sphere(centre, Eigen::Vector3d::Constant(R));
-  BodyPart part;
+  CollisionTable part;
   TableSpec spec;
   spec.projection = Projection::Spherical;
   spec.frame.origin = centre + Eigen::Vector3d(0.3 * R, 0, 0); // off centre, as in the
   // table accuracy study of docs/collision-tables.md (radius error 1.4e-3 R at 40 × 40)
-  EXPECT_TRUE(part.table.build(spec, sphere).ok());
+  EXPECT_TRUE(part.build(spec, sphere).ok());
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
   StrandSpec s = StrandSpec::uniform(L, 10, HairParameters::roundStraight());
@@ -206,7 +206,7 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   };
   SuperHelix h;
   EXPECT_TRUE(h.initialize(s).ok());
-  attach(h, contacts, {ContactBody::still(part)});
+  attach(h, contacts, {PosedPart::still(part)});
   for (int i = 0; i < std::lround(seconds / Dt); ++i)
   {
     const Status st = h.step(Dt);
@@ -216,7 +216,7 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   }
   DropResult r;
   r.speed = maxSpeed(h);
-  r.tableDepth = tableDepth(h, {part});
+  r.tableDepth = tableDepth(h, {PosedPart::still(part)});
   r.exactDepth = -1e300;
   for (int i = 0; i <= 400; ++i)
   {
@@ -297,12 +297,12 @@ CapstanResult capstan(double mu, double anisotropy, double speed, int window, in
   const int n = NLeft + NWrap + NRight; // NLeft: elements from the root up to the drum
   // The drum's axis is y (CappedCylinder's); "up" is +z and gravity −z.
   const CappedCylinder drum(Eigen::Vector3d::Zero(), R, 0.05);
-  BodyPart part;
+  CollisionTable part;
   TableSpec spec;
   spec.projection = Projection::Cylindrical;
   spec.heightMin = -0.05;
   spec.heightMax = 0.05;
-  EXPECT_TRUE(part.table.build(spec, drum).ok());
+  EXPECT_TRUE(part.build(spec, drum).ok());
   BodyContactParameters prm;
   // The wrap carries λ = T/R + ρS g ≤ 6e-4 N/m (T ≤ ρS g · 0.52 m): the default
   // k = 10 N/m² lets the rope sink by λ/k < 60 µm into a 0.1 mm layer, which the rope starts
@@ -348,7 +348,7 @@ CapstanResult capstan(double mu, double anisotropy, double speed, int window, in
   // The wrapped shape: the tip hangs at x = R below the drum.
   EXPECT_LT((h.position(h.length()) - Eigen::Vector3d(R, 0, -NRight * l)).norm(), 1e-9)
       << h.position(h.length()).transpose();
-  attach(h, contacts, {ContactBody::still(part)});
+  attach(h, contacts, {PosedPart::still(part)});
 
   CapstanResult r;
   const int settle = std::lround((StartPull + 2) / Dt);
@@ -553,13 +553,13 @@ double slide(double mu, double tanAlpha, double seconds)
 {
   const double R = 1.0, alpha = std::atan(tanAlpha);
   const CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
-  BodyPart part;
+  CollisionTable part;
   TableSpec spec;
   spec.projection = Projection::Cylindrical;
   spec.azimuthSamples = spec.secondSamples = 400; // 1.6 cm cells on the 1 m radius
   spec.heightMin = -0.5;
   spec.heightMax = 0.5;
-  EXPECT_TRUE(part.table.build(spec, body).ok());
+  EXPECT_TRUE(part.build(spec, body).ok());
   BodyContactParameters prm;
   prm.friction = mu;
   prm.anisotropy = 0; // sideways sliding: cos ψ = 0 anyway; isolate μ
@@ -582,7 +582,7 @@ double slide(double mu, double tanAlpha, double seconds)
   };
   SuperHelix h;
   EXPECT_TRUE(h.initialize(s).ok());
-  attach(h, contacts, {ContactBody::still(part)});
+  attach(h, contacts, {PosedPart::still(part)});
   const Eigen::Vector3d tip0 = h.position(0.3);
   // dt = 1/120 s: at 1/30 s the first-order step blurs the threshold (measured at r = 0.9:
   // a held strand creeps 27 mm in 3 s, a sliding one moves 0.12 m instead of 0.27 m; at
@@ -633,11 +633,13 @@ Status sphereScene(const SimulationOptions& o, Simulation& sim, double& R)
 {
   R = 0.08;
   static const Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.08));
-  SimulationPart part;
-  part.part.name = "sphere";
+  Scene scene;
+  scene.parts.emplace_back();
+  ScenePart& part = scene.parts.back();
+  part.name = "sphere";
   TableSpec spec;
   spec.projection = Projection::Spherical;
-  if (Status s = part.part.table.build(spec, sphere); !s)
+  if (Status s = part.table.build(spec, sphere); !s)
     return s;
   GuideStrand g;
   g.root = Eigen::Vector3d(0, R + 0.004, 0);
@@ -645,7 +647,7 @@ Status sphereScene(const SimulationOptions& o, Simulation& sim, double& R)
   g.length = 0.2;
   g.elements = 10;
   g.hair = HairParameters::roundStraight();
-  return sim.initialize({g}, {part}, o);
+  return sim.initialize({g}, scene, o);
 }
 } // namespace
 
@@ -657,7 +659,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
   for (bool enabled : {true, false})
   {
     SimulationOptions o;
-    o.contacts.enabled = enabled;
+    o.superHelix.contacts.enabled = enabled;
     Simulation sim;
     double R = 0;
     const Status st = sphereScene(o, sim, R);
@@ -674,7 +676,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
       EXPECT_EQ(sim.contacts().back(), 0);
       EXPECT_EQ(deepest, 0.0);
       EXPECT_NE(f.energy.at("contact_work"), 0.0);
-      EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.contacts.stiffness);
+      EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.superHelix.contacts.stiffness);
     }
     else
     {
@@ -689,7 +691,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
 TEST(SimulationBodyContacts, BadContactParametersAreRefused)
 {
   SimulationOptions o;
-  o.contacts.friction = -1;
+  o.superHelix.contacts.friction = -1;
   Simulation sim;
   double R = 0;
   const Status st = sphereScene(o, sim, R);
@@ -706,13 +708,13 @@ TEST(SimulationBodyContacts, AdditionalContactsAddOnTopOfTheBodys)
   Simulation sim;
   const double rhoS = HairParameters::roundStraight().linearDensity();
   int calls = 0;
-  sim.setAdditionalContacts(
+  o.superHelix.additionalContacts =
       [&](int, double, const std::vector<StrandSample>& s, std::vector<ContactResponse>& r)
-      {
-        ++calls; // one strand, one thread: no race
-        for (std::size_t i = 0; i < s.size(); ++i)
-          r[i].force += Eigen::Vector3d(0, rhoS * 9.81, 0);
-      });
+  {
+    ++calls; // one strand, one thread: no race
+    for (std::size_t i = 0; i < s.size(); ++i)
+      r[i].force += Eigen::Vector3d(0, rhoS * 9.81, 0);
+  };
   double R = 0;
   const Status st = sphereScene(o, sim, R);
   ASSERT_TRUE(st.ok()) << st.message();

@@ -1,6 +1,7 @@
 // Energy budget and long-run stability of the Super-Helix step (docs/super-helix.md).
 // Budget: Δ(kinetic + elastic + gravitational) = root work + wind work + contact work
 // − friction − air dissipation + residual, with the residual the integrator's own share.
+#include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

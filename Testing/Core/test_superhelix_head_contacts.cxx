@@ -4,11 +4,11 @@
 // wavy guides of 30 cm, 10 elements, combed, head shaking ±0.5 rad at 1 Hz, wind 0.5 m/s
 // from the front, 5 s), whose penetration statistics per frame docs/superhelix-contacts.md
 // records (this test prints them).
+#include "DemoScene.h"
 #include "ProjectiveScenes.h"
 #include "contact/BodyContacts.h"
 #include "geometry/TriangleMesh.h"
 #include "simulation/Simulation.h"
-#include "strands/RootSampling.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>
@@ -43,7 +43,7 @@ TEST(SuperHelixHeadContacts, StrandDrapedOverTheHeadRestsOutside)
   // A smooth strand of 25 cm rooted 2 mm above the crown, growing sideways (+x) over the
   // head, left 5 s under gravity: it drapes over the side of the head and rests.
   const BundledBody& b = body();
-  const BodyPart& head = b.parts[b.head];
+  const PosedPart head = PosedPart::still(b.parts[b.head].table);
   const TableQuery top = head.query(b.headCentre + Eigen::Vector3d(0, 0.2, 0));
   ASSERT_TRUE(top.covered);
   HairParameters hp = HairParameters::preset(HairType::Smooth);
@@ -62,8 +62,8 @@ TEST(SuperHelixHeadContacts, StrandDrapedOverTheHeadRestsOutside)
   ASSERT_TRUE(h.initialize(s).ok());
   BodyContacts contacts;
   ASSERT_TRUE(contacts.setParameters(BodyContactParameters()).ok());
-  const std::vector<ContactBody> bodies = {ContactBody::still(b.parts[b.head]),
-                                           ContactBody::still(b.parts[b.trunk])};
+  const std::vector<PosedPart> bodies = {PosedPart::still(b.parts[b.head].table),
+                                         PosedPart::still(b.parts[b.trunk].table)};
   const double rhoS = hp.linearDensity();
   h.setContactForces(
       [&](int, double, const std::vector<StrandSample>& smp, std::vector<ContactResponse>& r)
@@ -83,7 +83,7 @@ TEST(SuperHelixHeadContacts, StrandDrapedOverTheHeadRestsOutside)
   for (const StrandSample& q : h.samples())
   {
     speed = std::max(speed, q.velocity.norm());
-    for (const BodyPart& p : b.parts)
+    for (const PosedPart& p : bodies)
     {
       const TableQuery t = p.query(q.position);
       if (t.covered)
@@ -134,40 +134,15 @@ struct FrameStats
 Status demoScene(bool contacts, std::vector<FrameStats>& stats, double& seconds)
 {
   const BundledBody& b = body();
-  std::vector<Root> roots;
-  RootSamplingOptions ro;
-  ro.count = 200;
-  ro.seed = 1;
-  if (Status s = sampleRoots(b.mesh, bundledScalp(b.mesh), ro, roots); !s)
-    return s;
-  const bool flip = b.mesh.signedVolume() < 0;
-  const Eigen::Vector3d comb = Eigen::Vector3d(0, -1, -0.3).normalized();
   std::vector<GuideStrand> guides;
-  for (const Root& r : roots)
-  {
-    GuideStrand g;
-    g.root = r.position;
-    g.normal = flip ? Eigen::Vector3d(-r.normal) : r.normal;
-    g.growth = (0.65 * g.normal + 0.35 * comb).normalized();
-    g.length = 0.30;
-    g.elements = 10;
-    g.hair = HairParameters::preset(HairType::Wavy);
-    g.seed = 1;
-    guides.push_back(g);
-  }
-  std::vector<SimulationPart> parts(2);
-  parts[0].part = b.parts[b.head];
-  parts[0].movesWithHead = true;
-  parts[1].part = b.parts[b.trunk];
+  if (Status s = demoGuides(b, 200, 10, guides); !s)
+    return s;
+  const Scene scene = demoScene(b);
   SimulationOptions o;
-  o.wind = Eigen::Vector3d(0, 0, -0.5);
-  o.motion.kind = HeadMotion::Kind::Shake;
-  o.motion.amplitude = 0.5;
-  o.motion.frequency = 1.0;
   o.threads = 2;
-  o.contacts.enabled = contacts;
+  o.superHelix.contacts.enabled = contacts;
   Simulation sim;
-  if (Status s = sim.initialize(guides, parts, o); !s)
+  if (Status s = sim.initialize(guides, scene, o); !s)
     return s;
   const auto t0 = std::chrono::steady_clock::now();
   if (Status s = sim.advanceTo(151); !s)
@@ -180,12 +155,12 @@ Status demoScene(bool contacts, std::vector<FrameStats>& stats, double& seconds)
     std::vector<double> d;
     FrameStats st;
     const std::vector<double>& depth = fr.pointData.at("contact_depth");
-    const int perStrand = 10 * o.pointsPerElement + 1;
+    const int perStrand = 10 * o.superHelix.pointsPerElement + 1;
     for (std::size_t i = 0; i < depth.size(); ++i)
       if (depth[i] > 0)
       {
         d.push_back(depth[i]);
-        if (static_cast<int>(i % perStrand) <= o.pointsPerElement)
+        if (static_cast<int>(i % perStrand) <= o.superHelix.pointsPerElement)
           ++st.insideRootElement;
         else
           st.maxFree = std::max(st.maxFree, depth[i]);

@@ -1,5 +1,6 @@
 // Refusal of bad input with a clear message, blow-up handling that keeps the previous
 // state, the contact hook, multi-strand stepping and the optional adaptive sub-steps.
+#include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

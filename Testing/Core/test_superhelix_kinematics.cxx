@@ -1,6 +1,7 @@
 // Reconstruction, Jacobian, velocity-dependent terms and mass matrix of the Super-Helix
 // model, each checked against an independent computation: finite differences of the
 // reconstruction (allowed in tests only), brute-force quadrature, and the analytic helix.
+#include "HeadShake.h"
 #include "superhelix/HelixFunctions.h"
 #include "superhelix/SuperHelix.h"
 

@@ -2,6 +2,7 @@
 // References: the clamped–free beam under a transverse tip load P, tip deflection
 // P L³ / (3 E I) (Euler–Bernoulli; e.g. Timoshenko & Gere, Mechanics of Materials); a
 // penalty floor under a uniform load, whose static penetration is load / stiffness.
+#include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
 #include <Eigen/SVD>

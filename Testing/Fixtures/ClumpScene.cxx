@@ -33,11 +33,15 @@ Status ClumpSpec::validate() const
   return hair.validate();
 }
 
+RigidMotion clumpRootMotion(const ClumpSpec& c)
+{
+  return RigidMotion::vertical(Eigen::Vector3d::UnitY(), c.amplitude, c.frequency)
+      .during(c.startOscillation);
+}
+
 double clumpRootOffset(const ClumpSpec& c, double t)
 {
-  return t > c.startOscillation
-             ? c.amplitude * std::sin(2 * M_PI * c.frequency * (t - c.startOscillation))
-             : 0.0;
+  return clumpRootMotion(c).signal(t);
 }
 
 Status initializeClump(const ClumpSpec& c, std::vector<SuperHelix>& out)
@@ -58,20 +62,7 @@ Status initializeClump(const ClumpSpec& c, std::vector<SuperHelix>& out)
     StrandSpec s = StrandSpec::uniform(c.length, c.elements, c.hair);
     s.id = i;
     s.name = "clump " + std::to_string(i);
-    const double a = c.amplitude, w = 2 * M_PI * c.frequency, t0 = c.startOscillation;
-    s.root = [=](double t)
-    {
-      RootState r;
-      r.orientation = frame;
-      r.position = root;
-      if (t > t0)
-      {
-        r.position.y() += a * std::sin(w * (t - t0));
-        r.velocity.y() = a * w * std::cos(w * (t - t0));
-        r.acceleration.y() = -a * w * w * std::sin(w * (t - t0));
-      }
-      return r;
-    };
+    s.root = clumpRootMotion(c).carriedRoot(root, frame);
     const double beta = c.flowRate, ramp = c.rampTime;
     s.windField = [beta, ramp](const Eigen::Vector3d& x, double t)
     {

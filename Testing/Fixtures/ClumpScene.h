@@ -29,6 +29,8 @@ struct ClumpSpec
   Status validate() const;
 };
 
+/// The root disc's motion: at rest until startOscillation, then amplitude · sin(2π f (t − start)).
+RigidMotion clumpRootMotion(const ClumpSpec& spec);
 /// The root disc's vertical offset at time t (0 before the oscillation starts) [m].
 double clumpRootOffset(const ClumpSpec& spec, double t);
 

@@ -2,6 +2,8 @@
 
 #include "collision/BodyPartList.h"
 #include "geometry/MeshIO.h"
+#include "strands/BundledBody.h"
+#include "strands/RootSampling.h"
 
 #include <algorithm>
 #include <cmath>
@@ -29,7 +31,7 @@ Status loadBundledBody(const std::string& dataDir, BundledBody& body)
   const MeshQueries queries(b.mesh);
   for (const BodyPartSpec& spec : specs)
   {
-    BodyPart part;
+    ScenePart part;
     part.name = spec.name;
     if (Status st = part.table.build(spec.spec, queries); !st)
     {
@@ -50,8 +52,7 @@ Status loadBundledBody(const std::string& dataDir, BundledBody& body)
   {
     return Status::Error(dataDir + "/body_parts.txt: a 'head' and a 'trunk' part are needed");
   }
-  // The head turns about the top of the neck: below the head centre, a little behind it.
-  b.neckPivot = b.headCentre + Eigen::Vector3d(0, -0.10, -0.03);
+  b.neckPivot = bundled::neckPivot();
   body = std::move(b);
   return Status::Ok();
 }
@@ -59,15 +60,15 @@ Status loadBundledBody(const std::string& dataDir, BundledBody& body)
 namespace
 {
 /// Puts p outside every part (at rest) by `clearance`, turning the segment from `prev`.
-Eigen::Vector3d keepOutside(const std::vector<BodyPart>& parts, const Eigen::Vector3d& prev,
+Eigen::Vector3d keepOutside(const std::vector<ScenePart>& parts, const Eigen::Vector3d& prev,
                             Eigen::Vector3d p, double d, double clearance)
 {
   for (int iter = 0; iter < 6; ++iter)
   {
     bool moved = false;
-    for (const BodyPart& part : parts)
+    for (const ScenePart& part : parts)
     {
-      const TableQuery q = part.query(p);
+      const TableQuery q = PosedPart::still(part.table).query(p);
       if (q.covered && q.depth > -clearance)
       {
         const Eigen::Vector3d target = p + (q.depth + clearance) * q.normal;
@@ -92,61 +93,22 @@ Status scalpStrands(const BundledBody& body, const ScalpOptions& options,
     return Status::Error("scalp strands: give > 0 strands, > 0 segments and a length > 0 m");
   }
   const Eigen::Vector3d c = body.headCentre;
-  // Scalp triangles and their areas.
-  std::vector<int> tris;
-  std::vector<double> cumulative;
-  double total = 0;
-  for (std::size_t t = 0; t < body.mesh.triangles.size(); ++t)
+  RootSamplingOptions ro;
+  ro.count = options.strands;
+  ro.seed = static_cast<std::uint32_t>(options.seed);
+  std::vector<Root> roots;
+  if (Status st = sampleRoots(body.mesh, bundled::scalp(body.mesh), ro, roots); !st)
   {
-    const auto& tri = body.mesh.triangles[t];
-    const Eigen::Vector3d a = body.mesh.points[tri[0]], b = body.mesh.points[tri[1]],
-                          e = body.mesh.points[tri[2]];
-    const Eigen::Vector3d g = (a + b + e) / 3.0;
-    if (g.y() < options.minHeight || (g - c).norm() > 0.16)
-    {
-      continue;
-    }
-    const Eigen::Vector3d radial = (g - c).normalized();
-    if (radial.z() > 0.35 && radial.y() < 0.55) // the face and the forehead
-    {
-      continue;
-    }
-    const Eigen::Vector3d n = (b - a).cross(e - a);
-    if (n.norm() <= 0 || std::abs(n.normalized().dot(radial)) < 0.3) // not facing outward
-    {
-      continue;
-    }
-    total += 0.5 * n.norm();
-    tris.push_back(static_cast<int>(t));
-    cumulative.push_back(total);
+    return Status::Error("scalp strands: " + st.message());
   }
-  if (tris.empty())
-  {
-    return Status::Error("scalp strands: no scalp triangles found on the bundled body");
-  }
-  std::mt19937_64 rng(options.seed);
-  auto uniform = [&rng]() { return (rng() >> 11) * (1.0 / 9007199254740992.0); };
   const int k = options.segments;
   const double d = options.length / k;
   strands.clear();
   strands.reserve(options.strands);
-  for (int s = 0; s < options.strands; ++s)
+  for (const Root& root : roots)
   {
-    const double pick = uniform() * total;
-    const std::size_t idx = std::min<std::size_t>(
-        std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin(),
-        tris.size() - 1);
-    const auto& tri = body.mesh.triangles[tris[idx]];
-    const Eigen::Vector3d a = body.mesh.points[tri[0]], b = body.mesh.points[tri[1]],
-                          e = body.mesh.points[tri[2]];
-    double u = uniform(), v = uniform();
-    if (u + v > 1)
-    {
-      u = 1 - u;
-      v = 1 - v;
-    }
-    const Eigen::Vector3d x = a + u * (b - a) + v * (e - a);
-    Eigen::Vector3d n = (b - a).cross(e - a).normalized();
+    const Eigen::Vector3d x = root.position;
+    Eigen::Vector3d n = root.normal;
     if (n.dot(x - c) < 0)
     {
       n = -n;
@@ -180,32 +142,35 @@ Status scalpStrands(const BundledBody& body, const ScalpOptions& options,
   return Status::Ok();
 }
 
-ProjectiveScene paperScene(const BundledBody& body, PaperScene which, double& duration)
+Scene paperScene(const BundledBody& body, PaperScene which, double& duration)
 {
-  ProjectiveScene scene;
+  Scene scene;
   scene.parts = body.parts;
-  scene.motions.assign(body.parts.size(), BodyMotion::still());
   if (which == PaperScene::Wind)
   {
-    scene.wind.direction = Eigen::Vector3d(0, 0, -1); // from the front (the face is +Z)
-    scene.wind.speed = 2.0;
-    scene.wind.gustAmplitude = 0.3;
-    scene.wind.gustPeriod = 0.8;
-    scene.wind.start = 0.3;
-    scene.wind.rampTime = 0.3;
+    scene.air.direction = Eigen::Vector3d(0, 0, -1); // from the front (the face is +Z)
+    scene.air.speed = 2.0;
+    scene.air.gustAmplitude = 0.3;
+    scene.air.gustPeriod = 0.8;
+    scene.air.start = 0.3;
+    scene.air.rampTime = 0.3;
     duration = 2.5;
   }
   else
   {
-    // Left, right, left: 1.5 periods of 0.8 s, ±0.6 rad (≈ 34°) about the neck's vertical.
-    const BodyMotion shake =
-        BodyMotion::shake(body.neckPivot, Eigen::Vector3d::UnitY(), 0.6, 0.8, 0.3, 1.5);
-    scene.motions[body.head] = shake;
+    // Left, right, left: 1.5 periods of 0.8 s, ±0.6 rad (≈ 34°) about the neck's vertical,
+    // fading in and out over a quarter period.
+    const RigidMotion shake =
+        RigidMotion::shake(body.neckPivot, Eigen::Vector3d::UnitY(), 0.6, 1 / 0.8)
+            .during(0.3, 1.5)
+            .fading(0.25 * 0.8);
+    scene.parts[body.head].motion = shake;
     scene.rootMotion = shake;
-    scene.wind.direction = Eigen::Vector3d(0, 0, -1);
-    scene.wind.speed = 0.5;
-    scene.wind.gustAmplitude = 0.2;
-    scene.wind.gustPeriod = 1.0;
+    scene.air.direction = Eigen::Vector3d(0, 0, -1);
+    scene.air.speed = 0.5;
+    scene.air.gustAmplitude = 0.2;
+    scene.air.gustPeriod = 1.0;
+    scene.air.rampTime = 0.25;
     duration = 2.5;
   }
   return scene;

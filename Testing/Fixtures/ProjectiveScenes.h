@@ -6,6 +6,7 @@
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "projective/ProjectiveStrands.h"
+#include "scene/Scene.h"
 
 #include <cstdint>
 #include <string>
@@ -19,8 +20,8 @@ namespace hair
 struct BundledBody
 {
   TriangleMesh mesh;
-  std::vector<BodyPart> parts; ///< "head" (spherical) then "trunk" (cylindrical)
-  int head = -1, trunk = -1;   ///< indices in `parts`
+  std::vector<ScenePart> parts; ///< "head" (spherical) then "trunk" (cylindrical), still
+  int head = -1, trunk = -1;    ///< indices in `parts`
   Eigen::Vector3d headCentre = Eigen::Vector3d::Zero();
   Eigen::Vector3d neckPivot = Eigen::Vector3d::Zero(); ///< the head turns about it
 };
@@ -31,16 +32,14 @@ struct ScalpOptions
   int strands = 1000;
   int segments = 40;
   double length = 0.40;     ///< strand length, m
-  double minHeight = 1.575; ///< roots above the ears (y of the bundled body, m)
   double bendPerMetre = 20; ///< combing: rad/m turned towards −y (and a little back)
   double clearance = 2e-3;  ///< combed nodes are put this far outside the parts, m
   std::uint64_t seed = 1993;
 };
 
-/// Samples roots on the upper part of the head mesh (area-weighted, above `minHeight`,
-/// not on the face, on triangles facing outward from the head centre) and combs each
-/// strand from the scalp normal downwards, keeping its nodes outside the parts at rest.
-/// The combed shape is the styled rest shape.
+/// Spreads roots over the bundled body's scalp (sampleRoots on bundled::scalp) and combs
+/// each strand from the scalp normal downwards, keeping its nodes outside the parts at
+/// rest. The combed shape is the styled rest shape.
 Status scalpStrands(const BundledBody& body, const ScalpOptions& options,
                     std::vector<ProjectiveStrand>& strands);
 
@@ -50,6 +49,6 @@ enum class PaperScene
   Shake ///< head shakes left, right and left about the neck, a little wind
 };
 /// The scene (parts, motions, wind) and its run duration in seconds.
-ProjectiveScene paperScene(const BundledBody& body, PaperScene which, double& duration);
+Scene paperScene(const BundledBody& body, PaperScene which, double& duration);
 
 } // namespace hair

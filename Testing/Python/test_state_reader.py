@@ -46,7 +46,9 @@ for t in range(T):
     exact = exact and np.array_equal(pts, positions[t]) and np.array_equal(v, velocities[t])
 check(exact, "every frame's positions and velocities come back exactly")
 check(out.GetNumberOfLines() == S, f"one polyline per strand ({out.GetNumberOfLines()})")
-check(out.GetCellData().GetArray("length") is not None, "per-strand parameters become cell data")
+# Named as the pipeline names them (Hair Strands' "Length"), not as the file does ("length").
+check(out.GetCellData().GetArray("Length") is not None and out.GetCellData().GetArray("length") is None,
+      "per-strand parameters become cell data, named as Hair Strands names them")
 # Between frames: the frame at or before the time asked.
 UpdatePipeline(proxy=reader, time=times[2] + 0.01)
 between = fetch(reader)

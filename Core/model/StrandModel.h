@@ -1,0 +1,56 @@
+#pragma once
+// The seam between the frame loop (simulation/) and a model of hair strands. A model takes
+// the guides and the scene, advances in its own steps, and describes its frames and its
+// energy in the same terms as every other model; the frame loop, the state file, the
+// penetration measure and the filters know nothing else of it. superhelix/ and projective/
+// implement it; a third model is a third implementation, registered in
+// simulation/ModelRegistry.cxx (docs/architecture.md, "Adding a model").
+#include "common/Status.h"
+#include "io/StateFile.h"
+#include "model/EnergyBudget.h"
+#include "scene/Scene.h"
+#include "strands/GuideStrand.h"
+
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+/// What every model takes from the run.
+struct RunSettings
+{
+  /// s: the model's step; an upper bound for a model whose scheme needs smaller ones.
+  double timeStep = 1.0 / 30;
+  double frameInterval = 1.0 / 30; ///< s between stored frames
+  int threads = 1;
+  Status validate() const;
+};
+
+class StrandModel
+{
+public:
+  virtual ~StrandModel() = default;
+
+  /// What the state file records as its "model" attribute ("super-helix", "projective").
+  virtual const char* name() const = 0;
+  /// Builds the strands from the guides (validated by the caller), at rest in their natural
+  /// or styled shape at t = 0, in the scene, which the model keeps a copy of.
+  virtual Status initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
+                            const RunSettings& run) = 0;
+  /// Advances to time t (≥ time()) in the model's own steps. A failed step returns an error
+  /// naming the strand and the time; the model must not be advanced after that.
+  virtual Status advanceTo(double t) = 0;
+  virtual double time() const = 0;
+
+  /// The layout of its frames: model, offsets (points per strand), coordinatesPerStrand,
+  /// and its own run attributes (added to those the frame loop writes).
+  virtual void describe(StateHeader& header) const = 0;
+  /// The current state into `frame`: positions and velocities of every point, the point
+  /// scalars "curvature" (1/m) and "twist" (1/m), q and q̇ (frame.time is set by the caller).
+  virtual void writeFrame(StateFrame& frame) const = 0;
+  /// The energy budget now (works and dissipations since t = 0).
+  virtual EnergyBudget energy() const = 0;
+};
+
+} // namespace hair

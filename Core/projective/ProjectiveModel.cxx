@@ -1,0 +1,134 @@
+#include "projective/ProjectiveModel.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hair
+{
+
+ProjectiveModel::ProjectiveModel(const ProjectiveOptions& options) : Options(options) {}
+
+double ProjectiveModel::stepFor(const RunSettings& run)
+{
+  return run.frameInterval / std::ceil(run.frameInterval / std::min(run.timeStep, 1e-3) - 1e-9);
+}
+
+ProjectiveParameters ProjectiveModel::material(const HairParameters& hair)
+{
+  ProjectiveParameters p;
+  p.linearDensity = hair.linearDensity();
+  p.bendingStiffness = 0.5 * (hair.stiffness()[1] + hair.stiffness()[2]);
+  p.dragDiameter = 2 * hair.radius;
+  return p;
+}
+
+Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
+                                   const RunSettings& run)
+{
+  std::vector<ProjectiveStrand> strands(guides.size());
+  for (std::size_t k = 0; k < guides.size(); ++k)
+  {
+    const GuideStrand& g = guides[k];
+    const int n = g.elements;
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i <= n; ++i)
+    {
+      points.push_back(g.root + (g.length * i / n) * g.growth.normalized());
+    }
+    if (Status s = strandFromPolyline(points, g.rootFrame().col(1), strands[k]); !s)
+    {
+      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+    }
+    strands[k].parameters = material(g.hair);
+  }
+  ProjectiveOptions o = Options;
+  o.timeStep = stepFor(run);
+  o.threads = run.threads;
+  return Strands.initialize(std::move(strands), scene, o);
+}
+
+Status ProjectiveModel::advanceTo(double target)
+{
+  const double h = Strands.options().timeStep;
+  const int steps = std::max(1, static_cast<int>(std::lround((target - Strands.time()) / h)));
+  for (int i = 0; i < steps; ++i)
+  {
+    if (Status s = Strands.step(); !s)
+    {
+      return s;
+    }
+  }
+  return Status::Ok();
+}
+
+void ProjectiveModel::describe(StateHeader& header) const
+{
+  header.model = name();
+  const int n = Strands.numberOfStrands() ? Strands.numberOfSegments(0) : 0;
+  header.coordinatesPerStrand = 2 * n;
+  header.offsets.clear();
+  std::int64_t first = 0;
+  header.offsets.push_back(first);
+  for (int s = 0; s < Strands.numberOfStrands(); ++s)
+  {
+    first += Strands.numberOfSegments(s) + 1;
+    header.offsets.push_back(first);
+  }
+}
+
+void ProjectiveModel::writeFrame(StateFrame& f) const
+{
+  f.positions.clear();
+  f.velocities.clear();
+  f.q.clear();
+  f.qdot.clear();
+  std::vector<double>& curvature = f.pointData["curvature"];
+  std::vector<double>& twist = f.pointData["twist"];
+  curvature.clear();
+  twist.clear();
+  for (int s = 0; s < Strands.numberOfStrands(); ++s)
+  {
+    const auto& nodes = Strands.nodes(s);
+    const auto& velocities = Strands.nodeVelocities(s);
+    f.positions.insert(f.positions.end(), nodes.begin(), nodes.end());
+    f.velocities.insert(f.velocities.end(), velocities.begin(), velocities.end());
+    // Discrete curvature: the turning angle at a node over the segment length; the
+    // projective model has no twist.
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+    {
+      double kappa = 0;
+      if (i > 0 && i + 1 < nodes.size())
+      {
+        const Eigen::Vector3d a = (nodes[i] - nodes[i - 1]).normalized();
+        const Eigen::Vector3d b = (nodes[i + 1] - nodes[i]).normalized();
+        kappa = std::atan2(a.cross(b).norm(), a.dot(b)) / Strands.segmentLength(s);
+      }
+      curvature.push_back(kappa);
+      twist.push_back(0.0);
+    }
+    for (std::size_t k = 0; k < Strands.angles(s).size(); ++k)
+    {
+      f.q.push_back(Strands.angles(s)[k].x());
+      f.q.push_back(Strands.angles(s)[k].y());
+      f.qdot.push_back(Strands.rates(s)[k].x());
+      f.qdot.push_back(Strands.rates(s)[k].y());
+    }
+  }
+}
+
+EnergyBudget ProjectiveModel::energy() const
+{
+  const ProjectiveEnergy e = Strands.energy();
+  EnergyBudget b;
+  b.add(energy::Kinetic, EnergyKind::State, e.kinetic);
+  b.add(energy::Elastic, EnergyKind::State, e.elastic);
+  b.add(energy::Gravitational, EnergyKind::State, e.gravitational);
+  b.add(energy::Dissipated, EnergyKind::Dissipation, e.dissipated); // its one dissipation
+  b.add("body_work", EnergyKind::Work, e.bodyWork);
+  b.add("wind_work", EnergyKind::Work, e.windWork);
+  b.add("contact_work", EnergyKind::Work, e.contactWork);
+  b.add(energy::Residual, EnergyKind::Residual, e.residual);
+  return b;
+}
+
+} // namespace hair

@@ -1,0 +1,39 @@
+#pragma once
+// The projective model of Kurihara, Anjyo and Thalmann (1993) behind the StrandModel seam:
+// each guide a chain of rigid segments grown straight along its growth direction, stepped
+// explicitly in whole steps of at most 1 ms per frame.
+#include "model/StrandModel.h"
+#include "projective/ProjectiveStrands.h"
+
+namespace hair
+{
+
+class ProjectiveModel final : public StrandModel
+{
+public:
+  /// `options.timeStep` and `options.threads` are taken from the run at initialize().
+  explicit ProjectiveModel(const ProjectiveOptions& options = {});
+
+  const char* name() const override { return "projective"; }
+  Status initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
+                    const RunSettings& run) override;
+  Status advanceTo(double t) override;
+  double time() const override { return Strands.time(); }
+  void describe(StateHeader& header) const override;
+  void writeFrame(StateFrame& frame) const override;
+  EnergyBudget energy() const override;
+
+  /// The explicit scheme's step: at most 1 ms, in whole steps per frame so that frames fall
+  /// on their times.
+  static double stepFor(const RunSettings& run);
+  /// The material of a guide's hair type: ρS, the mean bending stiffness of the section and
+  /// its diameter for the drag.
+  static ProjectiveParameters material(const HairParameters& hair);
+  const ProjectiveStrands& strands() const { return Strands; }
+
+private:
+  ProjectiveOptions Options;
+  ProjectiveStrands Strands;
+};
+
+} // namespace hair

@@ -1,0 +1,68 @@
+#pragma once
+// A projective strand at rest: a chain of k rigid segments whose directions are two angles
+// relative to the parent segment (Anjyo, Usami and Kurihara 1992; Kurihara, Anjyo and
+// Thalmann 1993), with its material. The angle convention and the equations are in
+// docs/projective-strands.md.
+#include "common/Status.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace hair
+{
+
+/// The material of one strand, SI. Defaults: one human hair (radius 40 µm, E ≈ 4 GPa,
+/// 1300 kg/m³).
+struct ProjectiveParameters
+{
+  double linearDensity = 6.5e-6;  ///< ρA, kg/m
+  double bendingStiffness = 8e-9; ///< EI, N·m²; hinge stiffness κ = EI / d
+  double dampingRate = 2.0;       ///< α, 1/s: angular damping per unit inertia
+  /// β, s: damping proportional to the hinge stiffness (internal friction of the hinge),
+  /// γ_i = α I_i + β κ. It damps the stiff high-frequency bending of short tip segments
+  /// (ω ≈ √(3EI/(ρA d⁴))) without slowing the slow swing of the whole strand.
+  double stiffnessDamping = 1e-3;
+  double dragDiameter = 8e-5;   ///< D for the air drag, m
+  double airDensity = 1.2;      ///< ρ_air, kg/m³
+  double dragCoefficient = 1.2; ///< C_d of a cylinder across the flow (Re ~ 1–10: 1–3)
+  Status validate() const;
+};
+
+/// One guide strand at rest, in the coordinates of the root's body part at rest.
+struct ProjectiveStrand
+{
+  Eigen::Vector3d root = Eigen::Vector3d::Zero();
+  /// Root frame, columns (e1, e2, e3), orthonormal and right-handed. The first segment's
+  /// angles are measured in it (e3 is the straight continuation, see `segmentDirection`).
+  Eigen::Matrix3d rootFrame = Eigen::Matrix3d::Identity();
+  double segmentLength = 0.01;             ///< d, metres
+  std::vector<Eigen::Vector2d> restAngles; ///< (θ⁰, φ⁰) of each segment; its size is k
+  ProjectiveParameters parameters;
+};
+
+/// Direction of a segment in its parent's frame: θ from the parent's e1 (the pole), φ about
+/// it from e3 towards e2, so that (θ, φ) = (π/2, 0) continues the parent straight on and
+/// the rest shapes of hair lie far from the poles:
+///   u = (cos θ, sin θ sin φ, sin θ cos φ).
+Eigen::Vector3d segmentDirection(double theta, double phi);
+/// The rotation that takes the parent's frame to the child's: A = Rx(−φ) Ry(π/2 − θ).
+Eigen::Matrix3d segmentRotation(double theta, double phi);
+
+/// Builds a strand from a polyline of equal segments (relative spread ≤ 1e-6, refused
+/// otherwise): rest angles from the polyline, root frame with e3 along the first segment
+/// and e1 as close as possible to `rootSide` (any vector not parallel to the first segment).
+/// The material is left as it is in `strand`.
+Status strandFromPolyline(const std::vector<Eigen::Vector3d>& points,
+                          const Eigen::Vector3d& rootSide, ProjectiveStrand& strand);
+
+/// Quadratic air drag on a straight segment of length `length`, unit direction `tangent`,
+/// moving at `segmentVelocity` in air moving at `air`: only the relative flow across the
+/// segment counts (independence principle),
+///   f = ½ ρ C_d D ℓ |w⊥| w⊥,  w⊥ = (I − t tᵀ)(air − segmentVelocity).
+Eigen::Vector3d segmentDrag(const ProjectiveParameters& material, const Eigen::Vector3d& air,
+                            const Eigen::Vector3d& segmentVelocity, const Eigen::Vector3d& tangent,
+                            double length);
+
+} // namespace hair

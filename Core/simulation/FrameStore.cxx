@@ -1,0 +1,189 @@
+#include "simulation/FrameStore.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace hair
+{
+
+namespace
+{
+std::string inBytes(double bytes)
+{
+  char s[32];
+  if (bytes >= 1024.0 * 1024 * 1024)
+  {
+    std::snprintf(s, sizeof s, "%.1f GiB", bytes / (1024.0 * 1024 * 1024));
+  }
+  else
+  {
+    std::snprintf(s, sizeof s, "%.2f MiB", bytes / (1024.0 * 1024));
+  }
+  return s;
+}
+} // namespace
+
+FrameStore::FrameStore() = default;
+FrameStore::~FrameStore() = default;
+
+double FrameStore::bytesOf(const StateFrame& f)
+{
+  double bytes = sizeof(StateFrame) +
+                 sizeof(Eigen::Vector3d) * double(f.positions.size() + f.velocities.size()) +
+                 sizeof(double) * double(f.q.size() + f.qdot.size());
+  for (const auto& [name, values] : f.pointData)
+  {
+    bytes += name.size() + sizeof(double) * double(values.size());
+  }
+  for (const auto& [name, value] : f.energy)
+  {
+    bytes += name.size() + sizeof(value);
+  }
+  return bytes;
+}
+
+Status FrameStore::checkMemory(int frames, double perFrame, double budget, std::size_t points)
+{
+  const double need = perFrame * std::max(frames, 0);
+  if (need <= budget)
+  {
+    return Status::Ok();
+  }
+  return Status::Error("the run's " + std::to_string(frames) + " frames of " +
+                       std::to_string(points) + " points would need " + inBytes(need) +
+                       " of memory (" + inBytes(perFrame) + " per frame), more than the " +
+                       inBytes(budget) +
+                       " allowed; run fewer frames, use fewer strands or elements, allow more "
+                       "memory, or give a state file: the frames beyond the budget are then "
+                       "kept in the file only, and read back from it when asked for.");
+}
+
+Status FrameStore::open(const StateHeader& header, const std::vector<std::string>& extra,
+                        StateFrame first, const StorageOptions& options)
+{
+  close();
+  Frames.clear();
+  Window = std::numeric_limits<int>::max();
+  const double perFrame = bytesOf(first);
+  if (options.frames > 0)
+  {
+    if (Status s =
+            checkMemory(options.frames, perFrame, options.memoryBudget, first.positions.size());
+        !s)
+    {
+      const double window = std::floor(options.memoryBudget / std::max(perFrame, 1.0));
+      if (options.stateFile.empty())
+      {
+        return s;
+      }
+      if (window < 2)
+      {
+        return Status::Error(s.message() + " Even streaming to the state file needs two "
+                                           "frames in memory.");
+      }
+      Window = static_cast<int>(std::min(window, double(options.frames)));
+    }
+  }
+  if (!options.stateFile.empty())
+  {
+    auto writer = std::make_unique<StateFileWriter>();
+    Status s = writer->create(options.stateFile, header, extra);
+    s = s ? writer->append(first) : s;
+    if (!s)
+    {
+      return s;
+    }
+    Writer = std::move(writer);
+  }
+  Header = header;
+  Options = options;
+  Frames.push_back(std::move(first));
+  return Status::Ok();
+}
+
+Status FrameStore::add(StateFrame frame)
+{
+  Status written = Status::Ok();
+  if (Writer)
+  {
+    written = Writer->append(frame);
+    if (!written)
+    {
+      Writer.reset();
+    }
+  }
+  Frames.push_back(std::move(frame));
+  if (Window < std::numeric_limits<int>::max())
+  {
+    if (!written || !Writer)
+    {
+      // Streaming without a file would lose the frames that leave the window: keep them
+      // and stop.
+      return Status::Error(
+          (written ? std::string("the state file ") + Options.stateFile + " is closed"
+                   : written.message()) +
+          "; this run does not fit in memory without it: stopped at t = " +
+          std::to_string(Frames.back().time) + " s (the frames before it are in the file).");
+    }
+    release(size() - 1 - Window);
+  }
+  return written;
+}
+
+void FrameStore::close()
+{
+  if (Writer)
+  {
+    Writer->close();
+    Writer.reset();
+  }
+}
+
+bool FrameStore::inMemory(int index) const
+{
+  const StateFrame& f = Frames.at(index);
+  return !f.positions.empty() || Header.numberOfPoints() == 0;
+}
+
+void FrameStore::release(int index)
+{
+  if (index < 0 || index + 1 >= size())
+  {
+    return; // unknown, or the newest frame
+  }
+  StateFrame& f = Frames[index];
+  // Swapped with empty containers, so that the memory is returned (clear() keeps capacity).
+  std::vector<Eigen::Vector3d>().swap(f.positions);
+  std::vector<Eigen::Vector3d>().swap(f.velocities);
+  std::vector<double>().swap(f.q);
+  std::vector<double>().swap(f.qdot);
+  f.pointData.clear();
+}
+
+Status FrameStore::read(int index, StateFrame& out) const
+{
+  if (index < 0 || index >= size())
+  {
+    return Status::Error("there is no frame " + std::to_string(index) + " (the run has " +
+                         std::to_string(size()) + ").");
+  }
+  if (inMemory(index))
+  {
+    out = Frames[index];
+    return Status::Ok();
+  }
+  // Opened for each such request: the file grows while the run goes on.
+  StateFileReader reader;
+  Status s = reader.open(Options.stateFile);
+  s = s ? reader.readFrame(index, out) : s;
+  if (!s)
+  {
+    return Status::Error("frame " + std::to_string(index) +
+                         " (t = " + std::to_string(Frames[index].time) +
+                         " s) is no longer in memory and could not be read back from " +
+                         Options.stateFile + ": " + s.message());
+  }
+  return Status::Ok();
+}
+
+} // namespace hair

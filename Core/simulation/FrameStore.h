@@ -1,0 +1,75 @@
+#pragma once
+// Where a run's frames live: in memory while they fit in the memory budget, in the state
+// file as they are computed (written and flushed one by one), and, for a run longer than
+// memory holds, only the newest in memory with earlier ones read back from the file.
+// Every frame keeps its time and energy in memory (the energy table shows them all).
+#include "common/Status.h"
+#include "io/StateFile.h"
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+struct StorageOptions
+{
+  /// Where every frame is written (docs/state-file.md); empty: nowhere.
+  std::string stateFile;
+  /// Bytes the frames may take in memory (∞: no limit).
+  double memoryBudget = std::numeric_limits<double>::infinity();
+  /// The frames the run will have, frame 0 included (0: unknown, no budget check). A run
+  /// whose frames do not fit in the budget is refused before it starts unless there is a
+  /// state file to stream them to.
+  int frames = 0;
+};
+
+class FrameStore
+{
+public:
+  FrameStore();
+  ~FrameStore();
+  FrameStore(const FrameStore&) = delete;
+  FrameStore& operator=(const FrameStore&) = delete;
+
+  /// Memory one frame takes (bytes): its arrays, per-point scalars and energy terms.
+  static double bytesOf(const StateFrame& frame);
+  /// Refuses `frames` frames of `perFrame` bytes that need more than `budget`, with the
+  /// figures and what to change.
+  static Status checkMemory(int frames, double perFrame, double budget, std::size_t points);
+
+  /// Starts a run's store with its first frame: creates (truncates) the state file, if any,
+  /// and writes the frame to it; decides how many frames stay in memory. On error nothing
+  /// is kept.
+  Status open(const StateHeader& header, const std::vector<std::string>& extraEnergyTerms,
+              StateFrame first, const StorageOptions& options);
+  /// Adds the next frame: written and flushed to the state file, kept in memory, and the
+  /// frame that leaves the memory window (already in the file) released. A write that fails
+  /// closes the file and is returned; the frame stays in memory.
+  Status add(StateFrame frame);
+  void close();
+
+  int size() const { return static_cast<int>(Frames.size()); }
+  /// Frames kept whole in memory at most (the others only by time and energy).
+  int window() const { return Window; }
+  bool inMemory(int index) const;
+  /// Frame `index` as kept: whole when inMemory(index), else only its time and energy.
+  const StateFrame& frame(int index) const { return Frames.at(index); }
+  /// Frame `index` whole, from memory or read back from the state file.
+  Status read(int index, StateFrame& out) const;
+  /// The newest frame's size (every frame has the same).
+  double bytesPerFrame() const { return Frames.empty() ? 0 : bytesOf(Frames.back()); }
+  const StateHeader& header() const { return Header; }
+
+private:
+  void release(int index);
+  StateHeader Header;
+  StorageOptions Options;
+  std::vector<StateFrame> Frames;
+  int Window = std::numeric_limits<int>::max();
+  std::unique_ptr<StateFileWriter> Writer;
+};
+
+} // namespace hair

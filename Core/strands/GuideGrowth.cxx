@@ -1,0 +1,74 @@
+#include "strands/GuideGrowth.h"
+
+#include <cmath>
+
+namespace hair
+{
+
+Status GrowthOptions::validate() const
+{
+  if (!(length > 0) || !std::isfinite(length))
+  {
+    return Status::Error("the strand length must be a positive number of metres.");
+  }
+  if (elements < 1)
+  {
+    return Status::Error("a strand needs at least one element.");
+  }
+  if (combed)
+  {
+    if (!combDirection.allFinite() || !(combDirection.norm() > 0))
+    {
+      return Status::Error("the comb direction is zero or NaN: give a direction.");
+    }
+    if (!(combWeight >= 0 && combWeight <= 1))
+    {
+      return Status::Error("the comb weight must lie in [0, 1].");
+    }
+  }
+  return hair.validate();
+}
+
+Status growGuides(const std::vector<Root>& roots, const GrowthOptions& options,
+                  std::vector<GuideStrand>& guides)
+{
+  if (Status s = options.validate(); !s)
+  {
+    return s;
+  }
+  const Eigen::Vector3d comb = options.combDirection.normalized();
+  std::vector<GuideStrand> out(roots.size());
+  for (std::size_t k = 0; k < roots.size(); ++k)
+  {
+    GuideStrand& g = out[k];
+    g.root = roots[k].position;
+    g.normal = roots[k].normal;
+    g.growth = roots[k].normal;
+    if (options.combed)
+    {
+      const Eigen::Vector3d blend = (1 - options.combWeight) * g.normal + options.combWeight * comb;
+      if (blend.norm() > 1e-9)
+      {
+        g.growth = blend.normalized();
+      }
+    }
+    g.length = options.length;
+    g.elements = options.elements;
+    g.hair = options.hair;
+    g.seed = options.seed;
+  }
+  guides = std::move(out);
+  return Status::Ok();
+}
+
+std::vector<Eigen::Vector3d> grownPolyline(const GuideStrand& g)
+{
+  std::vector<Eigen::Vector3d> points(g.elements + 1);
+  for (int i = 0; i <= g.elements; ++i)
+  {
+    points[i] = g.root + (g.length * i / g.elements) * g.growth;
+  }
+  return points;
+}
+
+} // namespace hair

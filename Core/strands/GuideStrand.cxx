@@ -1,0 +1,45 @@
+#include "strands/GuideStrand.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace hair
+{
+
+Status GuideStrand::validate(const std::string& what) const
+{
+  if (!root.allFinite() || !growth.allFinite() || !(growth.norm() >= 1e-12) || !normal.allFinite())
+  {
+    return Status::Error(what + " has a NaN root or a zero or NaN growth direction.");
+  }
+  if (elements < 1 || !(length > 0) || !std::isfinite(length))
+  {
+    return Status::Error(what + " has " + std::to_string(elements) + " elements and length " +
+                         std::to_string(length) +
+                         ": give at least one element and a positive length.");
+  }
+  if (Status s = hair.validate(); !s)
+  {
+    return Status::Error(what + ": " + s.message());
+  }
+  return Status::Ok();
+}
+
+Eigen::Matrix3d GuideStrand::rootFrame() const
+{
+  const Eigen::Vector3d n0 = growth.normalized();
+  Eigen::Vector3d n1 = normal - normal.dot(n0) * n0;
+  if (n1.norm() < 1e-6)
+  {
+    n1 = n0.unitOrthogonal();
+  }
+  n1.normalize();
+  Eigen::Matrix3d f;
+  f.col(0) = n0;
+  f.col(1) = n1;
+  f.col(2) = n0.cross(n1);
+  return f;
+}
+
+} // namespace hair

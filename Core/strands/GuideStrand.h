@@ -1,0 +1,34 @@
+#pragma once
+// A guide strand as it is grown (Hair Strands) and handed to a model: where it roots, which
+// way it leaves the scalp, how long it is, how finely a model cuts it, and its hair type.
+#include "common/Status.h"
+#include "strands/HairParameters.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+
+namespace hair
+{
+
+struct GuideStrand
+{
+  Eigen::Vector3d root = Eigen::Vector3d::Zero();
+  Eigen::Vector3d growth = Eigen::Vector3d::UnitY(); ///< direction of the first element
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY(); ///< scalp normal at the root
+  double length = 0.3;                               ///< m
+  int elements = 10; ///< Super-Helix elements, or projective segments
+  HairParameters hair;
+  std::uint32_t seed = 1; ///< of the natural-curvature variation
+
+  /// Refuses a NaN root, a zero or NaN growth direction, a NaN normal, fewer than one
+  /// element, a length that is not positive and finite, and bad hair parameters. The
+  /// message starts with `what` (e.g. "strand 3").
+  Status validate(const std::string& what) const;
+  /// Orthonormal root frame: n0 along the growth, n1 as close as possible to the scalp
+  /// normal made perpendicular (any perpendicular when they are parallel), n2 = n0 × n1.
+  Eigen::Matrix3d rootFrame() const;
+};
+
+} // namespace hair

@@ -1,0 +1,298 @@
+#include "superhelix/SuperHelixModel.h"
+
+#include "common/Parallel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace hair
+{
+
+Status SuperHelixOptions::validate() const
+{
+  // The strands check the same range (StrandSpec::validate); this message names the
+  // model's option instead of a strand's field.
+  if (!(quadratureTolerance >= QuadratureChooser::MinTolerance &&
+        quadratureTolerance <= QuadratureChooser::MaxTolerance))
+  {
+    std::ostringstream s;
+    s << "the quadrature tolerance " << quadratureTolerance << " is outside ["
+      << QuadratureChooser::MinTolerance << ", " << QuadratureChooser::MaxTolerance
+      << "]; the default " << QuadratureChooser::defaultTolerance()
+      << " keeps the quadrature error far below the time step's, "
+      << QuadratureChooser::MaxTolerance << " is the fastest.";
+    return Status::Error(s.str());
+  }
+  if (pointsPerElement < 1)
+  {
+    return Status::Error("at least one display point per element is needed.");
+  }
+  if (Status s = contacts.validate(); !s)
+  {
+    return Status::Error("hair–body contacts: " + s.message());
+  }
+  if (hairHairEnabled)
+  {
+    if (Status s = hairHair.validate(); !s)
+    {
+      return Status::Error("hair–hair contacts: " + s.message());
+    }
+    if (hairHairMaxUpdates < 1 || hairHairMaxUpdates > 64)
+    {
+      return Status::Error(
+          "hair–hair contacts: hairHairMaxUpdates = " + std::to_string(hairHairMaxUpdates) +
+          " is out of range; give 1 to 64 searches per step.");
+    }
+  }
+  return Status::Ok();
+}
+
+SuperHelixModel::SuperHelixModel(const SuperHelixOptions& options) : Options(options) {}
+
+Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
+                                   const RunSettings& run)
+{
+  if (Status s = Options.validate(); !s)
+  {
+    return s;
+  }
+  Run = run;
+  World = scene;
+  Options.contacts.lookAhead = run.timeStep;
+  if (Status s = Body.setParameters(Options.contacts); !s)
+  {
+    return Status::Error("hair–body contacts: " + s.message());
+  }
+  if (Options.hairHairEnabled)
+  {
+    HairHairParameters hh = Options.hairHair;
+    hh.threads = std::max(1, run.threads);
+    if (Status s = HairHair.setParameters(hh); !s)
+    {
+      return Status::Error("hair–hair contacts: " + s.message());
+    }
+  }
+  // The wind: the fast uniform path when the air is steady and uniform, the field otherwise.
+  const bool uniformAir = World.air.isSteadyAndUniform();
+  const Eigen::Vector3d uniformWind = World.air.velocity(Eigen::Vector3d::Zero(), 0);
+  Helices.assign(guides.size(), SuperHelix());
+  for (std::size_t k = 0; k < guides.size(); ++k)
+  {
+    const GuideStrand& g = guides[k];
+    StrandSpec spec = StrandSpec::uniform(g.length, g.elements, g.hair);
+    spec.name = "strand " + std::to_string(k);
+    spec.id = static_cast<int>(k);
+    spec.seed = g.seed + static_cast<std::uint32_t>(k);
+    spec.gravity = World.gravity;
+    if (uniformAir)
+    {
+      spec.wind = uniformWind;
+    }
+    else
+    {
+      spec.windField = World.air.field();
+    }
+    spec.quadratureTolerance = Options.quadratureTolerance;
+    spec.root = World.rootMotion.carriedRoot(g.root, g.rootFrame());
+    if (Status s = Helices[k].initialize(spec, 0.0); !s)
+    {
+      return s;
+    }
+    // The model lives on the heap and owns the strands: `this` outlives the hook.
+    Helices[k].setContactForces(
+        [this](int strand, double t, const std::vector<StrandSample>& samples,
+               std::vector<ContactResponse>& response) { respond(strand, t, samples, response); });
+  }
+  return Status::Ok();
+}
+
+void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSample>& samples,
+                              std::vector<ContactResponse>& response) const
+{
+  if (Options.contacts.enabled && !World.parts.empty())
+  {
+    thread_local std::vector<PosedPart> parts; // no allocation after the first call
+    World.posedParts(t, parts);
+    Body.respond(samples, Helices[strand].spec().hair.linearDensity(), parts.data(),
+                 static_cast<int>(parts.size()), response);
+  }
+  if (Options.hairHairEnabled)
+  {
+    HairHair.addResponses(strand, samples, response); // strand ids are their indices
+  }
+  if (Options.additionalContacts)
+  {
+    Options.additionalContacts(strand, t, samples, response);
+  }
+}
+
+double SuperHelixModel::time() const
+{
+  return Helices.empty() ? 0 : Helices[0].time();
+}
+
+Status SuperHelixModel::advanceTo(double target)
+{
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
+  const double dt = (target - time()) / steps;
+  auto findContacts = [&]() -> Status
+  {
+    if (Status s = findHairHairContacts(Helices, HairHair); !s)
+    {
+      return Status::Error("hair–hair contacts at t = " + std::to_string(time()) +
+                           " s: " + s.message());
+    }
+    return Status::Ok();
+  };
+  for (int i = 0; i < steps; ++i)
+  {
+    // Hair–hair: a search before each step; when pairs close fast, the step is cut into
+    // pieces that each start with a new search (HairHairContacts::updatesPerStep).
+    int pieces = 1;
+    if (Options.hairHairEnabled)
+    {
+      if (Status s = findContacts(); !s)
+      {
+        return s;
+      }
+      pieces = HairHair.updatesPerStep(dt, Options.hairHairMaxUpdates);
+    }
+    for (int k = 0; k < pieces; ++k)
+    {
+      if (k > 0)
+      {
+        if (Status s = findContacts(); !s)
+        {
+          return s;
+        }
+      }
+      if (Status s = stepStrands(Helices, dt / pieces, Run.threads); !s)
+      {
+        return s;
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+void SuperHelixModel::describe(StateHeader& header) const
+{
+  const int n = Helices.empty() ? 0 : Helices[0].elementCount();
+  header.model = name();
+  header.coordinatesPerStrand = 3 * n;
+  header.offsets.clear();
+  std::int64_t first = 0;
+  header.offsets.push_back(first);
+  for (const SuperHelix& h : Helices)
+  {
+    first += h.elementCount() * Options.pointsPerElement + 1;
+    header.offsets.push_back(first);
+  }
+  auto& at = header.attributes;
+  at["quadrature_tolerance"] = Options.quadratureTolerance;
+  const BodyContactParameters& c = Options.contacts;
+  at["contacts"] = c.enabled ? 1 : 0;
+  at["contact_stiffness"] = c.stiffness;
+  at["contact_damping_ratio"] = c.dampingRatio;
+  at["friction_coefficient"] = c.friction;
+  at["friction_anisotropy"] = c.anisotropy;
+  at["contact_thickness"] = c.thickness;
+  at["slip_velocity"] = c.slipVelocity;
+  at["hair_hair_contacts"] = Options.hairHairEnabled ? 1 : 0;
+  if (Options.hairHairEnabled)
+  {
+    const HairHairParameters& h = Options.hairHair;
+    at["hair_hair_thickness"] = h.thickness;
+    at["hair_hair_stiffness"] = h.stiffness;
+    at["hair_hair_damping"] = h.damping;
+    at["hair_hair_friction"] = h.friction;
+    at["hair_hair_per_length"] = h.perLength ? 1 : 0;
+    at["hair_hair_reference_length"] = h.referenceLength;
+    at["hair_hair_max_updates"] = Options.hairHairMaxUpdates;
+  }
+}
+
+void SuperHelixModel::writeFrame(StateFrame& f) const
+{
+  // Display points, their velocities, curvature and twist, strand by strand on the run's
+  // threads into pre-sized arrays (each point is computed alone: the same values on any
+  // number of threads).
+  const int per = Options.pointsPerElement;
+  std::vector<std::size_t> first(Helices.size() + 1, 0);
+  std::size_t qSize = 0;
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    first[k + 1] = first[k] + Helices[k].elementCount() * per + 1;
+    qSize += Helices[k].q().size();
+  }
+  const std::size_t points = first.back();
+  f.positions.resize(points);
+  f.velocities.resize(points);
+  std::vector<double>& curvature = f.pointData["curvature"];
+  std::vector<double>& twist = f.pointData["twist"];
+  curvature.resize(points);
+  twist.resize(points);
+  parallelBlocks(static_cast<std::int64_t>(Helices.size()), 16, Run.threads,
+                 [&](std::int64_t begin, std::int64_t end)
+                 {
+                   for (std::int64_t k = begin; k < end; ++k)
+                   {
+                     const SuperHelix& h = Helices[k];
+                     const int n = h.elementCount() * per;
+                     for (int i = 0; i <= n; ++i)
+                     {
+                       const std::size_t j = first[k] + i;
+                       h.positionAndVelocity(h.length() * i / n, f.positions[j], f.velocities[j]);
+                       // Curvature |κ| and twist τ of the element the point lies on
+                       // (q = (τ, κ1, κ2) per element).
+                       const int e = std::min(i / per, h.elementCount() - 1);
+                       const Eigen::Vector3d q = h.q().segment<3>(3 * e);
+                       curvature[j] = std::hypot(q.y(), q.z());
+                       twist[j] = q.x();
+                     }
+                   }
+                 });
+  f.q.clear();
+  f.qdot.clear();
+  f.q.reserve(qSize);
+  f.qdot.reserve(qSize);
+  for (const SuperHelix& h : Helices)
+  {
+    f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
+    f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
+  }
+}
+
+EnergyBudget SuperHelixModel::energy() const
+{
+  EnergyReport sum;
+  for (const SuperHelix& h : Helices)
+  {
+    const EnergyReport& e = h.energy();
+    sum.kinetic += e.kinetic;
+    sum.elastic += e.elastic;
+    sum.gravitational += e.gravitational;
+    sum.total.frictionDissipated += e.total.frictionDissipated;
+    sum.total.airDissipated += e.total.airDissipated;
+    sum.total.rootWork += e.total.rootWork;
+    sum.total.windWork += e.total.windWork;
+    sum.total.contactWork += e.total.contactWork;
+    sum.total.loadWork += e.total.loadWork;
+    sum.total.residual += e.total.residual;
+  }
+  EnergyBudget b;
+  b.add(energy::Kinetic, EnergyKind::State, sum.kinetic);
+  b.add(energy::Elastic, EnergyKind::State, sum.elastic);
+  b.add(energy::Gravitational, EnergyKind::State, sum.gravitational);
+  b.add("friction_dissipated", EnergyKind::Dissipation, sum.total.frictionDissipated);
+  b.add("air_dissipated", EnergyKind::Dissipation, sum.total.airDissipated);
+  b.add("root_work", EnergyKind::Work, sum.total.rootWork);
+  b.add("wind_work", EnergyKind::Work, sum.total.windWork);
+  b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  b.add(energy::Residual, EnergyKind::Residual, sum.total.residual);
+  return b;
+}
+
+} // namespace hair

@@ -1,0 +1,73 @@
+#pragma once
+// The Super-Helix model behind the StrandModel seam: one SuperHelix per guide, their
+// contacts with the body (penalty with anisotropic friction) and with each other, stepped
+// together on the run's threads.
+#include "contact/BodyContacts.h"
+#include "contact/HairHairContacts.h"
+#include "model/StrandModel.h"
+#include "superhelix/Quadrature.h"
+#include "superhelix/SuperHelix.h"
+
+#include <vector>
+
+namespace hair
+{
+
+struct SuperHelixOptions
+{
+  int pointsPerElement = 4; ///< display points per element in the frames
+  /// A priori bound on each element's quadrature error (StrandSpec::quadratureTolerance, in
+  /// [1e-15, 1e-2]). The default keeps the quadrature error far below the 1/30 s step's own;
+  /// 1e-2 makes curled hair 5–10 % faster (docs/benchmarks.md).
+  double quadratureTolerance = QuadratureChooser::defaultTolerance();
+  /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
+  /// `lookAhead` is set to the time step by the model.
+  BodyContactParameters contacts;
+  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md). Before every step
+  /// the contacts are found from all strands; when pairs close fast the step is cut into up
+  /// to `hairHairMaxUpdates` pieces, each starting with a new search, so that no pair goes
+  /// deeper than `hairHair.allowedDepth` of the contact distance within one.
+  bool hairHairEnabled = false;
+  HairHairParameters hairHair;
+  int hairHairMaxUpdates = 8;
+  /// The seam for other contact responses: a hook called for every strand at every
+  /// (sub-)step right after the body's and the other strands' response, with the same
+  /// samples and response buffer, to which it ADDS its own force, stiffness and damping
+  /// (never overwrites). It runs on the thread that steps the strand, several at once for
+  /// different strands. Empty: none.
+  ContactForces additionalContacts;
+  /// Names the first bad option, what is wrong and what to do.
+  Status validate() const;
+};
+
+class SuperHelixModel final : public StrandModel
+{
+public:
+  explicit SuperHelixModel(const SuperHelixOptions& options = {});
+  SuperHelixModel(const SuperHelixModel&) = delete;
+  SuperHelixModel& operator=(const SuperHelixModel&) = delete;
+
+  const char* name() const override { return "super-helix"; }
+  Status initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
+                    const RunSettings& run) override;
+  Status advanceTo(double t) override;
+  double time() const override;
+  void describe(StateHeader& header) const override;
+  void writeFrame(StateFrame& frame) const override;
+  EnergyBudget energy() const override;
+
+  const std::vector<SuperHelix>& strands() const { return Helices; }
+
+private:
+  void respond(int strand, double t, const std::vector<StrandSample>& samples,
+               std::vector<ContactResponse>& response) const;
+
+  SuperHelixOptions Options;
+  RunSettings Run;
+  Scene World;
+  std::vector<SuperHelix> Helices;
+  BodyContacts Body;
+  HairHairContacts HairHair;
+};
+
+} // namespace hair

@@ -1,0 +1,22 @@
+#pragma once
+// The demo's scene without ParaView (Scripts/demo_simulation.py builds the same through the
+// filters): guides as Hair Strands grows them on the bundled body's automatic scalp (seed 1,
+// 30 cm, wavy, combed towards (0, −1, −0.3) with weight 0.35), the head and trunk tables,
+// the head shaking ±0.5 rad at 1 Hz about the neck, and a 0.5 m/s wind from the front.
+#include "ProjectiveScenes.h"
+#include "scene/Scene.h"
+#include "strands/GuideStrand.h"
+
+#include <vector>
+
+namespace hair
+{
+
+/// `count` guides of `elements` elements (10 for the Super-Helix run, 40 for the
+/// projective one).
+Status demoGuides(const BundledBody& body, int count, int elements,
+                  std::vector<GuideStrand>& guides);
+/// The parts, the head's motion (carrying the roots and the head's table), the wind.
+Scene demoScene(const BundledBody& body);
+
+} // namespace hair
