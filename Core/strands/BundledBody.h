@@ -33,7 +33,7 @@ bool isBundledBody(const TriangleMesh& mesh);
 /// The scalp: a cap about the head's centre, its axis tilted 36.5° back from +Y,
 /// half-angle 88°, within 0.16 m, on triangles facing within 60° of the direction from the
 /// centre: from the hairline at the top of the forehead (y ≈ 1.615) to the nape
-/// (y ≈ 1.49), above the ears (docs/hair-strands.md has the picture).
+/// (y ≈ 1.49), above the ears.
 std::vector<std::uint8_t> scalp(const TriangleMesh& mesh);
 
 } // namespace bundled
