@@ -3,6 +3,7 @@
 #include "common/Multiversioning.h"
 #include "superhelix/DenseLu.h"
 #include "superhelix/HelixFunctions.h"
+#include "superhelix/SuperHelixInternal.h"
 
 #include <algorithm>
 #include <atomic>
@@ -15,13 +16,26 @@
 namespace hair
 {
 
-thread_local Eigen::MatrixXd SuperHelix::M, SuperHelix::C, SuperHelix::Kt, SuperHelix::Lhs;
-thread_local Eigen::VectorXd SuperHelix::Rhs;
-thread_local std::vector<int> SuperHelix::Pivots;
-thread_local Eigen::PartialPivLU<Eigen::MatrixXd> SuperHelix::Lu;
-thread_local std::vector<ContactResponse> SuperHelix::ContactBuffer;
-thread_local std::vector<Eigen::Vector3d> SuperHelix::Loads;
-thread_local std::uint64_t SuperHelix::LoadsId = 0;
+detail::StepWorkspace& detail::stepWorkspace()
+{
+  thread_local StepWorkspace workspace;
+  return workspace;
+}
+
+const Eigen::MatrixXd& SuperHelix::massMatrix() const
+{
+  return detail::stepWorkspace().M;
+}
+
+const Eigen::MatrixXd& SuperHelix::velocityJacobian() const
+{
+  return detail::stepWorkspace().C;
+}
+
+const Eigen::MatrixXd& SuperHelix::tensionStiffness() const
+{
+  return detail::stepWorkspace().Kt;
+}
 
 void SuperHelix::newCurId()
 {
@@ -648,16 +662,17 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
   if (Contacts)
   {
     const std::vector<StrandSample>& smp = samples();
-    ContactBuffer.assign(k.nodes.size(), ContactResponse());
-    Contacts(Spec.id, time, smp, ContactBuffer);
-    if (ContactBuffer.size() != k.nodes.size())
+    std::vector<ContactResponse>& buffer = detail::stepWorkspace().ContactBuffer;
+    buffer.assign(k.nodes.size(), ContactResponse());
+    Contacts(Spec.id, time, smp, buffer);
+    if (buffer.size() != k.nodes.size())
       return Status::Error("the contact hook changed the size of the response buffer (" +
-                           std::to_string(ContactBuffer.size()) + " instead of " +
+                           std::to_string(buffer.size()) + " instead of " +
                            std::to_string(k.nodes.size()) + "); write one response per sample.");
     for (size_t i = 0; i < k.nodes.size(); ++i)
     {
       Node& nd = k.nodes[i];
-      const ContactResponse& c = ContactBuffer[i];
+      const ContactResponse& c = buffer[i];
       nd.hasF = !c.force.isZero(0);
       nd.hasK = !c.stiffness.isZero(0);
       nd.hasD = !c.damping.isZero(0);
@@ -680,6 +695,8 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
 void SuperHelix::assemble()
 {
   const int n = elementCount();
+  detail::StepWorkspace& ws = detail::stepWorkspace();
+  Eigen::MatrixXd& M = ws.M;
   M.resize(3 * n, 3 * n); // per-thread buffer (no-op when the size is kept)
   Kinematics& k = Cur;
   if (Spec.windField && !WindsValid)
@@ -688,11 +705,11 @@ void SuperHelix::assemble()
   // (root-carried) velocity against the wind, the inertia of the root motion and the
   // velocity-dependent terms, contacts (the q̇-part of drag is implicit). Kept in Loads for
   // assembleTensionStiffness. Thread-local buffers are reached once, not per sample.
-  Loads.resize(k.nodes.size());
-  LoadsId = CurId;
-  Eigen::Vector3d* const loads = Loads.data();
+  ws.Loads.resize(k.nodes.size());
+  ws.LoadsId = CurId;
+  Eigen::Vector3d* const loads = ws.Loads.data();
   const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
-  const ContactResponse* const contacts = ContactsSet ? ContactBuffer.data() : nullptr;
+  const ContactResponse* const contacts = ContactsSet ? ws.ContactBuffer.data() : nullptr;
   const Eigen::Vector3d gravity = RhoS * Spec.gravity;
   const double nu = Spec.hair.airFriction;
   // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
@@ -860,6 +877,8 @@ void SuperHelix::assembleTensionStiffness(double h)
   // step carries is used, T⁺ = max(0, T − ρS ℓ² / (64 h²)), so that small steps keep the
   // explicit (energy-neutral) treatment. Tail sums as for the mass matrix: O(N²).
   const int n = elementCount();
+  detail::StepWorkspace& ws = detail::stepWorkspace();
+  Eigen::MatrixXd& Kt = ws.Kt;
   Kt.resize(3 * n, 3 * n); // per-thread buffer
   Kinematics& k = Cur;
   // Per element P: Y_P such that block(Q < P) = A_Qᵀ Y_P, and the stack At (rows
@@ -869,9 +888,9 @@ void SuperHelix::assembleTensionStiffness(double h)
   Y.resize(n);
   if (At.rows() < 3 * n)
     At.resize(3 * n, 3);
-  if (LoadsId != CurId) // assemble() ran for another strand or state on this thread since
+  if (ws.LoadsId != CurId) // assemble() ran for another strand or state on this thread since
     assemble();
-  const Eigen::Vector3d* const loads = Loads.data(); // set by assemble()
+  const Eigen::Vector3d* const loads = ws.Loads.data(); // set by assemble()
   Eigen::Vector3d tailF = Spec.tipForce;
   Eigen::Matrix3d tailP = Eigen::Matrix3d::Zero(); // ∫ T⁺ (I − n0 n0ᵀ) beyond the element
   for (int e = n - 1; e >= 0; --e)
@@ -1159,6 +1178,7 @@ void SuperHelix::assembleVelocityJacobian()
   //   δa0 = δa − [Fg]× δα + Φ δω,  Φ = −[ω × Fg]× − [ω]× [Fg]× − 2 [J k̇]×,
   // so per-element moments of these maps give each column block in O(N).
   const int n = elementCount();
+  Eigen::MatrixXd& C = detail::stepWorkspace().C;
   C.resize(3 * n, 3 * n); // per-thread buffer
   const Kinematics& k = Cur;
   struct Maps
@@ -1192,7 +1212,7 @@ void SuperHelix::assembleVelocityJacobian()
     // so only those (SampleMoments) are summed over the samples, and contracted here once
     // per element.
     SampleMoments sm;
-    if (el.count >= GramMinSamples)
+    if (el.count >= Spec.gramMinSamples)
     {
       FunctionGram fg;
       for (int j = el.first; j < el.first + el.count; ++j)
@@ -1375,6 +1395,10 @@ void SuperHelix::addContactJacobians(double h)
     Eigen::Vector3d gamma;
   };
   const int n = elementCount();
+  detail::StepWorkspace& ws = detail::stepWorkspace();
+  const std::vector<ContactResponse>& responses = ws.ContactBuffer;
+  Eigen::MatrixXd& Lhs = ws.Lhs;
+  Eigen::VectorXd& Rhs = ws.Rhs;
   thread_local std::vector<Moments> mom;
   thread_local std::vector<char> touched;
   mom.resize(n);
@@ -1386,8 +1410,8 @@ void SuperHelix::addContactJacobians(double h)
     if (!nd.hasK && !nd.hasD)
       continue;
     // K and D stay in the hook's buffer (hasK/hasD are set only from it, this step).
-    const Eigen::Matrix3d& contactK = ContactBuffer[j].stiffness;
-    const Eigen::Matrix3d& contactD = ContactBuffer[j].damping;
+    const Eigen::Matrix3d& contactK = responses[j].stiffness;
+    const Eigen::Matrix3d& contactD = responses[j].damping;
     Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
     Eigen::Vector3d b = Eigen::Vector3d::Zero();
     if (nd.hasK)
@@ -1479,6 +1503,10 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 + Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint,
   // one factor of the quadratic ones at the new velocity.
   const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
+  detail::StepWorkspace& ws = detail::stepWorkspace();
+  const Eigen::MatrixXd &M = ws.M, &C = ws.C, &Kt = ws.Kt;
+  Eigen::MatrixXd& Lhs = ws.Lhs;
+  Eigen::VectorXd& Rhs = ws.Rhs;
   const int m = static_cast<int>(M.rows());
   Lhs.resize(m, m);
   Rhs = h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
@@ -1494,6 +1522,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   if (m > UnblockedLuMax)
   {
     // Large systems: Eigen's blocked LU (its cache blocking pays off past 3N = 360).
+    Eigen::PartialPivLU<Eigen::MatrixXd>& Lu = ws.Lu;
     Lu.compute(Lhs);
     const double pivotL = Lu.matrixLU().diagonal().cwiseAbs().minCoeff();
     if (!(pivotL > 1e-30 * scale))
@@ -1505,6 +1534,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // Small systems: LU with partial pivoting (row interchanges, as LAPACK getrf / Eigen's
   // PartialPivLU) in panels of four columns, without packing: at 3N = 30 Eigen's blocked
   // kernel spent most of its time in packing and dispatch.
+  std::vector<int>& Pivots = ws.Pivots;
   Pivots.resize(static_cast<size_t>(m));
   const double pivot = luSolveInPlace(Lhs.data(), Rhs.data(), m, Pivots.data());
   if (!(pivot > 1e-30 * scale))
@@ -1590,7 +1620,7 @@ Status SuperHelix::singleStep(double h)
   const double t0 = Time, t1 = Time + h;
   if (!CurValid)
     reconstruct();
-  // The contact response in ContactBuffer is this strand's only until the step ends.
+  // The contact response in the step workspace is this strand's only until the step ends.
   struct EndOfStep
   {
     bool& contactsSet;
@@ -1642,7 +1672,8 @@ Status SuperHelix::singleStep(double h)
     const Eigen::VectorXd qdd = (qdN - Qdot) / h;
     const double nu = Spec.hair.airFriction;
     const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
-    const ContactResponse* const contacts = ContactsSet ? ContactBuffer.data() : nullptr;
+    const ContactResponse* const contacts =
+        ContactsSet ? detail::stepWorkspace().ContactBuffer.data() : nullptr;
     Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
     Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sw = Eigen::Vector3d::Zero();
     for (int e = 0; e < elementCount(); ++e)
