@@ -22,10 +22,10 @@ namespace
 {
 // The tension an explicit step carries, T_ex = ρS ℓ² / (64 h²): a string of tension T with
 // nodes ℓ apart has its highest mode at ω = 2 √(T/ρS) / ℓ, so T_ex keeps h ω <= 1/4, an
-// eighth of the explicit (symplectic Euler) limit h ω < 2. Measured: with 1/16 (h ω <= 1/2)
-// the smooth N = 1 strand on the shaking head gained 0.011 J in 300 s (4.5 × the stability
-// test's bound); with 1/64 and 1/256 every preset and N = 1…40 ran 60 s (N = 1, 2, 3:
-// 600 s) with an energy gain below 6e-5 J; with no explicit share (K_T from T = 0 up) the
+// eighth of the explicit (symplectic Euler) limit h ω < 2. With 1/16 (h ω <= 1/2) the smooth
+// N = 1 strand on the shaking head gains 0.011 J in 300 s (4.5 × the stability test's
+// bound); with 1/64 and 1/256 every preset and N = 1…40 runs 60 s (N = 1, 2, 3: 600 s) with
+// an energy gain below 6e-5 J; with no explicit share (K_T from T = 0 up) the
 // falling-strand residual at dt = 1/8000 s is 4.5 × the explicit step's (docs/super-helix.md).
 constexpr double ExplicitTensionDivisor = 64;
 } // namespace
@@ -141,8 +141,9 @@ void SuperHelix::assemble()
           eRR(a, b) += (wm * nd.r[a]) * nd.r[b];
         }
       {
-        // X += [wm r]× J, written out: crossCols stayed a call here (3 % of a curly step's
-        // time), and forcing it inline everywhere made every preset 3–5 % slower.
+        // X += [wm r]× J, written out: GCC does not inline crossCols here (the call would be
+        // 3 % of a curly step's time), and forcing it inline everywhere makes every preset
+        // 3–5 % slower.
         const double r0 = wm * nd.r[0], r1 = wm * nd.r[1], r2 = wm * nd.r[2];
         for (int c = 0; c < 3; ++c)
         {
@@ -190,8 +191,9 @@ void SuperHelix::assemble()
       //   Σ F D Fᵀ = F0 (Σ_ij sEE_ij (−1)^j P_ij) F0ᵀ.
       // The six P_ij with i <= j are formed once per element (K X by column cross products);
       // the others are P_ji = (−1)^(i+j) P_ijᵀ (K D = −(D K)ᵀ, K² D = (D K²)ᵀ,
-      // K² D K = −(K D K²)ᵀ). The three sums were Horner forms in K, 150 flops each, as a
-      // lambda that was not inlined: 5.6 % of a curly step's time (perf cpu-clock samples).
+      // K² D K = −(K D K²)ᵀ). As Horner forms in K the three sums would cost 150 flops
+      // each and, in a lambda GCC does not inline, 5.6 % of a curly step's time (perf
+      // cpu-clock samples).
       const Eigen::Vector3d k = Q.segment<3>(3 * e);
       Eigen::Matrix3d P01, P02;
       P01.noalias() = RotI.asDiagonal() * K;
@@ -225,7 +227,7 @@ void SuperHelix::assemble()
     const Eigen::Matrix3d C = skew(tailC);
     const Eigen::Matrix3d ThA = tailTheta * el.A;
     // The tail's parts of U and V, shared with the diagonal block (fixed-size temporaries:
-    // the nested product expression was evaluated coefficient by coefficient).
+    // Eigen evaluates the nested product expression coefficient by coefficient).
     Eigen::Matrix3d TU = ThA, TV = tailM * el.W;
     TU.noalias() += C * el.W;
     TV.noalias() -= C * el.A;
@@ -319,7 +321,7 @@ void SuperHelix::assembleTensionStiffness(double h)
       const Eigen::Vector3d c(ce[0], ce[1], ce[2]), d(dg[0], dg[1], dg[2]);
       // T⁺ without a branch: the sign of T changes along a moving strand, and a mispredicted
       // branch costs more than the products of a sample in compression (which add zeros).
-      // A NaN tension counts as none, as before; F's check stops such a step.
+      // A NaN tension counts as none (T > 0 is false); F's check stops such a step.
       const double T = (W * c).dot(atSample) - explicitTension;
       const double wT = nd.w * (T > 0 ? T : 0.0);
       const Eigen::Vector3d wd = wT * d;

@@ -30,7 +30,7 @@ void SuperHelix::addContactJacobians(double h)
   //   block(q, q) = Z_qᵀ T_q Z_q + Ω_q,   Rhs_q = Z_qᵀ Σ_{e > q} β_e + γ_q:
   // O(N²) per strand plus O(1) per sample in contact, like the mass matrix. (Forming
   // Σ w Jᵀ S J sample by sample costs O(e²) per sample: a 40-element strand lying on the
-  // scalp took 3 × the step without contacts.) S need not be symmetric (friction).
+  // scalp takes 3 × the step without contacts.) S need not be symmetric (friction).
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Mat63 = Eigen::Matrix<double, 6, 3>;
   using Mat36 = Eigen::Matrix<double, 3, 6>;

@@ -102,8 +102,8 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
       // the sample's frame: E(u)ᵀ (F0ᵀ ω + G(u) k̇), with E(u)ᵀ = I − u φ0 K + u² φ1 K² and
       // E(u)ᵀ G(u) = G(−k, u) = u I − u² φ1 K + u³ φ2 K² (K y = k × y; E and G are functions
       // of K). So it is linear in (1, u, u φ0, u² φ1, u³ φ2) with the coefficients omO, formed
-      // once per element (two cross products per sample and the sums of y = F0ᵀ ω + G k̇ were
-      // ~20 % of the reconstruction's time, perf cpu-clock samples).
+      // once per element (two cross products per sample and the sums of y = F0ᵀ ω + G k̇
+      // would be ~20 % of the reconstruction's time, perf cpu-clock samples).
       const Eigen::Vector3d omF = Fr.transpose() * om, kxkd = k.cross(kd), kxom = k.cross(omF);
       const Eigen::Vector3d omO[5] = {omF, kd, -kxom, k.cross(kxom) - kxkd, k.cross(kxkd)};
       Eigen::Vector3d wr = Eigen::Vector3d::Zero(); // Σ w r, for the gravitational energy
@@ -118,8 +118,8 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
         // The helix coefficients of the interval's nodes. Gauss nodes come in mirror pairs,
         // u and a + b − u on the interval [a, b], so sin and cos of Ω u for the farther one
         // follow from those of the nearer one and of X = Ω (a + b) by the angle difference:
-        // one sincos per pair instead of two (sincos was 5 % of a fuzzy step's time, perf
-        // cpu-clock samples). X is the end's angle when the element is one interval.
+        // one sincos per pair instead of two (one per node would be 5 % of a fuzzy step's
+        // time, perf cpu-clock samples). X is the end's angle when the element is one interval.
         const int np = rule.points;
         HelixCoefficients hc[MaxGaussPoints];
         const double xMid = omega * (hsub * (2 * sI + 1));

@@ -23,9 +23,9 @@ using detail::formStepSystem;
 namespace
 {
 // Up to this size (3N) the step's matrix is factorized by luSolveInPlace (DenseLu.h), larger
-// ones by Eigen's blocked PartialPivLU. Measured (whole steps of the wavy strand, alternated
-// processes, docs/benchmarks-superhelix.md, ninth revision): ours is faster up to 3N = 360
-// (N = 120: 1.9–3.1 ms a step against 4.0–4.2 ms); at 3N = 480 the two were within the noise.
+// ones by Eigen's blocked PartialPivLU. In whole steps of the wavy strand (alternated
+// processes) ours is faster up to 3N = 360 (N = 120: 1.9–3.1 ms a step against
+// 4.0–4.2 ms); at 3N = 480 the two are within the noise.
 constexpr int UnblockedLuMax = 360;
 } // namespace
 
@@ -68,7 +68,7 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   }
   // Small systems: LU with partial pivoting (row interchanges, as LAPACK getrf / Eigen's
   // PartialPivLU) in panels of four columns, without packing: at 3N = 30 Eigen's blocked
-  // kernel spent most of its time in packing and dispatch.
+  // kernel spends most of its time in packing and dispatch.
   std::vector<int>& Pivots = ws.Pivots;
   Pivots.resize(static_cast<size_t>(m));
   const double pivot = luSolveInPlace(Lhs.data(), Rhs.data(), m, Pivots.data());

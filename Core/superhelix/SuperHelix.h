@@ -40,11 +40,12 @@ struct StrandSpec
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();
   /// A priori bound on the relative error of each element's Gauss quadrature (of M, the
   /// forces and C); the rule is chosen per element from its turning Ω ℓ (Quadrature.h).
-  /// The default is the bound of the former fixed rule; smaller is more accurate and dearer.
+  /// The default is the bound of 4 points per π/2 of turning; smaller is more accurate and
+  /// dearer.
   double quadratureTolerance = QuadratureChooser::defaultTolerance();
   /// 0: the rule size is chosen per element (default). n in [3, MaxGaussPoints]: n points
   /// per interval, intervals from the tolerance; 4 with the default tolerance is the fixed
-  /// rule of earlier versions (4 points per π/2 of turning), kept to reproduce their results.
+  /// rule of 4 points per π/2 of turning on every element.
   int quadraturePoints = 0;
   /// A tuning knob, not a model setting (the results agree to round-off either way):
   /// elements with at least this many quadrature samples sum the velocity Jacobian's

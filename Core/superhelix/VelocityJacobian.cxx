@@ -23,7 +23,7 @@ namespace
 {
 // The per-sample moments behind the velocity Jacobian's element maps (see
 // assembleVelocityJacobian), summed in plain arrays (column-major 3 × 3 blocks): the same
-// sums written with Eigen's 3 × 3 expressions took 9 % more of C's instructions on fuzzy
+// sums written with Eigen's 3 × 3 expressions take 9 % more of C's instructions on fuzzy
 // hair (4 % on smooth).
 //   PJ = Σ w J,  N_a = Σ w J_a Fgᵀ,  X = Σ w (J_0 × J_1, J_0 × J_2, J_1 × J_2),
 //   S2 = Σ w Fg Fgᵀ,  with Y = w F0 D (D = D²g[k̇, ·]):  Qm = Σ Jᵀ Y,  SD = Σ Y,  R = Σ [Fg]× Y.
@@ -328,8 +328,8 @@ void SuperHelix::assembleVelocityJacobian()
   }
   const Eigen::Index ldc = C.rows(), ldg = Gam.rows();
   // Λ_{qe+1} as one 6 × 9 matrix: rows 0–2 the tail torque, 3–5 the tail force; columns
-  // (δa, δα, δω). Six-row products vectorize in three packets, where the eighteen 3 × 3
-  // products of the same sums (the tenth revision's code) left a row over in each.
+  // (δa, δα, δω). Six-row products vectorize in three packets, where eighteen 3 × 3
+  // products of the same sums would leave a row over in each.
   Eigen::Matrix<double, 6, 9> L = Eigen::Matrix<double, 6, 9>::Zero();
   for (int qe = n - 1; qe >= 0; --qe)
   {
