@@ -1,6 +1,8 @@
 // The definitions of the step's array kernels declared in StepKernels.h, each compiled for
 // AVX2 and for baseline x86-64 (HAIR_AVX2_CLONES), and the instantiations the phases use.
-// The comments on what each computes are in the header.
+// The comments on what each computes are in the header. A translation unit of its own, not
+// in the step's unity build (Core/CMakeLists.txt): GCC does not multiversion a template
+// instantiated in a unit before its definition.
 #include "superhelix/StepKernels.h"
 
 #include "common/Multiversioning.h"

@@ -3,7 +3,9 @@
 // state at rest), the elastic energy, the root state, the per-thread step workspace and
 // the accessors that read it, and the reconstruction counter. The other parts:
 // StrandSpec.cxx, Kinematics.cxx, Assembly.cxx, VelocityJacobian.cxx,
-// ContactJacobians.cxx, StepKernels.cxx, Step.cxx, StepStrands.cxx.
+// ContactJacobians.cxx, StepKernels.cxx, Step.cxx, StepStrands.cxx. All but StepKernels.cxx
+// are compiled as one translation unit (Core/CMakeLists.txt), so names in their anonymous
+// namespaces must differ from file to file.
 #include "superhelix/SuperHelix.h"
 
 #include "superhelix/SuperHelixInternal.h"
