@@ -118,7 +118,7 @@ double luSolveInPlace(double* a, double* x, int m, int* piv)
       cj[c0 + 3] = u3;
     }
     // Blocks of rows: L21's rows in registers, one pass over the trailing columns each
-    // (the columns are short at 3N = 30: a loop down each column spent most of its
+    // (the columns are short at 3N = 30: a loop down each column spends most of its
     // instructions on its set-up and remainder).
     int i = c1;
     for (; i + 8 <= m; i += 8)

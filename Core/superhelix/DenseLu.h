@@ -17,8 +17,8 @@ namespace hair
 // receives the same updates in the same order as in the column-by-column algorithm
 // (y −= l_c u_c for c = 0, 1, …, one rounding each), so the factors are the same bit for
 // bit. Compiled for AVX2 and for baseline x86-64 (common/Multiversioning.h).
-// Against Eigen's PartialPivLU (docs/benchmarks-superhelix.md, ninth revision): 2.25 against
-// ~4 µs at m = 30, 52 against 115–169 µs at m = 120; SuperHelix uses it up to m = 360.
+// Against Eigen's PartialPivLU: 2.25 against ~4 µs at m = 30, 52 against 115–169 µs at
+// m = 120; SuperHelix uses it up to m = 360.
 double luSolveInPlace(double* a, double* x, int m, int* piv);
 
 } // namespace hair

@@ -127,7 +127,7 @@ HelixCoefficients helixCoefficients(double x, double s, double c)
 void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, HelixPoint& out,
                 HelixCoefficients* coefficients)
 {
-  // Written out in scalars, sharing the products (Eigen's 3-vector expressions did not).
+  // Written out in scalars, sharing the products (Eigen's 3-vector expressions do not).
   const double k0 = k.x(), k1 = k.y(), k2 = k.z();
   const double v0 = kd.x(), v1 = kd.y(), v2 = kd.z();
   const double om2 = k.squaredNorm();
@@ -135,7 +135,7 @@ void helixPoint(const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u, H
   if (coefficients)
     *coefficients = h;
   // helixFunctionValues' list, written out: through the array it cost +0.2 % (smooth) to
-  // +0.4 % (fuzzy) of a step's instructions here (measured), the same values.
+  // +0.4 % (fuzzy) of a step's instructions here (callgrind), for the same values.
   const double u2 = u * u, u3 = u2 * u, u4 = u2 * u2, u5 = u4 * u, u6 = u3 * u3, u7 = u6 * u;
   const double a = u2 * h.phi1, b = u3 * h.phi2;
   const double da = u4 * h.psi1, db = u5 * h.psi2; // (da/dΩ)/Ω, (db/dΩ)/Ω

@@ -43,7 +43,7 @@ struct ElementRule
 class QuadratureChooser
 {
 public:
-  /// The bound of the former fixed rule (4 points, Ω h ≤ π/2).
+  /// The bound of 4 Gauss points on every interval of Ω h ≤ π/2 (a quarter turn).
   static double defaultTolerance();
   /// The tolerances a strand accepts (StrandSpec::validate): below 1e-15 the bound is
   /// under round-off; above 1e-2 it no longer bounds anything useful.
@@ -51,7 +51,7 @@ public:
   /// minPoints >= 3 keeps straight elements exact: their integrands are polynomials of
   /// degree <= 5 (measured: M, f, C of a straight strand with 3 points agree with 12 to
   /// 8e-16; with 2 points they are 3e-5 off). minPoints = maxPoints = 4 with the default
-  /// tolerance is the former fixed rule (4 points per π/2 of turning).
+  /// tolerance is the fixed rule of 4 points per π/2 of turning on every element.
   explicit QuadratureChooser(double tolerance = defaultTolerance(), int minPoints = 3,
                              int maxPoints = MaxGaussPoints);
   /// The cheapest rule for an element that turns `turning` = Ω ℓ radians.
@@ -62,7 +62,7 @@ private:
   double Tolerance;
   int MinPoints, MaxPoints;
   // 1 / (the largest θ = 2Ω h per rule size): choose() runs for every element at every step
-  // (a division per rule size was 1.4 % of a fuzzy step's time, perf cpu-clock samples).
+  // (a division per rule size would be 1.4 % of a fuzzy step's time, perf cpu-clock samples).
   std::array<double, MaxGaussPoints + 1> InverseThetaMax{};
 };
 

@@ -14,7 +14,6 @@
 #include "superhelix/Quadrature.h"
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 
 #include <cstdint>
 #include <functional>
@@ -41,12 +40,25 @@ struct StrandSpec
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();
   /// A priori bound on the relative error of each element's Gauss quadrature (of M, the
   /// forces and C); the rule is chosen per element from its turning Ω ℓ (Quadrature.h).
-  /// The default is the bound of the former fixed rule; smaller is more accurate and dearer.
+  /// The default is the bound of 4 points per π/2 of turning; smaller is more accurate and
+  /// dearer.
   double quadratureTolerance = QuadratureChooser::defaultTolerance();
   /// 0: the rule size is chosen per element (default). n in [3, MaxGaussPoints]: n points
   /// per interval, intervals from the tolerance; 4 with the default tolerance is the fixed
-  /// rule of earlier versions (4 points per π/2 of turning), kept to reproduce their results.
+  /// rule of 4 points per π/2 of turning on every element.
   int quadraturePoints = 0;
+  /// A tuning knob, not a model setting (the results agree to round-off either way):
+  /// elements with at least this many quadrature samples sum the velocity Jacobian's
+  /// moments from a Gram matrix of the helix functions, the others sample by sample (the
+  /// same sums in another order: cheaper per sample, dearer per element; see FunctionGram in
+  /// VelocityJacobian.cxx). With D²g[k̇, ·] taken from per-element coefficients
+  /// (helixBilinearBasis) on the per-sample path, the break-even is ~11–12 samples:
+  /// instructions per step at N = 10 (callgrind), per sample against Gram, curly (7.6
+  /// samples per element) 108.0 M against 111.9 M, fuzzy (15.4) 156.4 M against 153.0 M over
+  /// 330 steps; BM_GramSideBySide, C alone, 8.4 against 9.4 µs (wavy), 9.1 against 9.7
+  /// (curly), 11.5 against 10.6 (fuzzy). The tests set it to 1 (every element from the Gram
+  /// matrix) and to a large value (none) to compare both ways.
+  int gramMinSamples = 12;
 
   /// A strand of `elements` equal elements of total length `length`.
   static StrandSpec uniform(double length, int elements, const HairParameters& hair);
@@ -140,12 +152,12 @@ public:
   void assembleVelocityJacobian(); ///< C = ∂f/∂q̇ (after assemble)
   void assembleTensionStiffness(double h);            ///< K_T for a step h (after assemble)
   Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
-  const Eigen::MatrixXd& massMatrix() const { return M; }
+  const Eigen::MatrixXd& massMatrix() const;
   const Eigen::VectorXd& generalizedForce() const { return F; }
-  const Eigen::MatrixXd& velocityJacobian() const { return C; }
+  const Eigen::MatrixXd& velocityJacobian() const;
   /// K_T, the tension part of the loads' stiffness −∂f/∂q, for a step of h (after
   /// assembleTensionStiffness(h)): symmetric, positive semi-definite.
-  const Eigen::MatrixXd& tensionStiffness() const { return Kt; }
+  const Eigen::MatrixXd& tensionStiffness() const;
   /// Sub-steps the last step or advance took: 1 for step(), more only when advance() was
   /// asked for accuracy.
   int lastSubsteps() const { return LastSubsteps; }
@@ -155,24 +167,14 @@ public:
   void prefetch() const;
   /// Upper bound on the sub-steps of advance().
   static constexpr int MaxSubsteps = 256;
-  /// Elements with at least this many quadrature samples sum the velocity Jacobian's
-  /// moments from a Gram matrix of the helix functions (the same sums in another order:
-  /// cheaper per sample, dearer per element; see FunctionGram in SuperHelix.cxx). Since the
-  /// per-sample path takes D²g[k̇, ·] from per-element coefficients (helixBilinearBasis),
-  /// the break-even is ~11–12 samples: instructions per step at N = 10 (callgrind), per
-  /// sample against Gram, curly (7.6 samples per element) 108.0 M against 111.9 M, fuzzy
-  /// (15.4) 156.4 M against 153.0 M over 330 steps; BM_GramSideBySide, C alone, 8.4 against
-  /// 9.4 µs (wavy), 9.1 against 9.7 (curly), 11.5 against 10.6 (fuzzy). A tuning knob, not a
-  /// model setting: the tests set it to 1 and to a large value to compare both ways.
-  static inline int GramMinSamples = 12;
 
 private:
   // One quadrature sample of the step, streamed through several times per step. Aligned to
-  // cache lines: 256 bytes, four lines (at 328 bytes unaligned, one step at N = 10 was
-  // 1.5–2.6 % slower than at 384 on every preset; docs/benchmarks-superhelix.md, ninth
-  // revision). What only some strands have stays out of it: the wind of a wind field
-  // (Winds), the contact response (ContactBuffer, same index), the load per unit length
-  // (Loads, per thread).
+  // cache lines, 256 bytes, four lines, so that no sample straddles a line (unaligned
+  // samples make a step at N = 10 1.5–2.6 % slower on every preset). What only some strands
+  // have stays out of it: the wind of a wind field (Winds), the contact response and the
+  // load per unit length (the step workspace's ContactBuffer and Loads, same index;
+  // SuperHelixInternal.h).
   struct alignas(64) Node
   {
     int element;
@@ -233,30 +235,17 @@ private:
   std::vector<Eigen::Vector3d> Winds;
   bool WindsValid = false;
   void fillWinds(double time);
-  // ContactBuffer holds this strand's contact response at Cur: true from a step's
-  // evaluateForces to the end of that step.
+  // The step workspace's ContactBuffer holds this strand's contact response at Cur: true
+  // from a step's evaluateForces to the end of that step.
   bool ContactsSet = false;
 
   mutable std::vector<StrandSample> Samples;
   Eigen::VectorXd F;
-  // Rebuilt by every step and used only inside it: one copy per thread, not per strand.
-  // With a thousand strands stepped in turn, a strand's own data comes from memory on each
-  // step; these 4 (3N)² matrices would be most of it (29 KB at N = 10) and stay in cache
-  // instead. The accessors below return the last ones built on the calling thread.
-  static thread_local Eigen::MatrixXd M, C, Kt, Lhs;
-  static thread_local Eigen::VectorXd Rhs;
-  static thread_local std::vector<int> Pivots; // row interchanges of the unblocked LU (small N)
-  static thread_local Eigen::PartialPivLU<Eigen::MatrixXd> Lu; // large N
-  static thread_local std::vector<ContactResponse> ContactBuffer;
-  // The explicit load per unit length at each sample, set by assemble() for
-  // assembleTensionStiffness (same index as the samples).
-  static thread_local std::vector<Eigen::Vector3d> Loads;
-  // Which reconstruction Loads belong to: CurId changes whenever Cur does (a process-wide
-  // counter), and assembleTensionStiffness re-assembles when Loads are another's.
-  static thread_local std::uint64_t LoadsId;
+  // Which reconstruction Cur is: a process-wide counter, renewed whenever Cur changes, so
+  // that the per-thread step workspace can tell whose loads it holds (SuperHelixInternal.h).
   std::uint64_t CurId = 0;
   void newCurId();
-  void addContactJacobians(double h); // implicit contact terms into Lhs and Rhs
+  void addContactJacobians(double h); // implicit contact terms into the step's Lhs and Rhs
 };
 
 /// Steps every strand by dt on `threads` threads (std::thread; 1: the calling thread

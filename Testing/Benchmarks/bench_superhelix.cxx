@@ -16,7 +16,7 @@
 //                            max |q|: what a looser rule buys and what it costs
 //   BM_GramSideBySide/<p>    the velocity Jacobian C and the whole step (N = 10) with the
 //                            element moments summed per sample and from the Gram matrix
-//                            (SuperHelix::GramMinSamples above any count, and 1), the two
+//                            (StrandSpec::gramMinSamples above any count, and 1), the two
 //                            ways interleaved in blocks of a few µs, so that the machine's
 //                            slow periods (seconds long) hit both alike; counters: minimum
 //                            µs per call of each way, and samples per element
@@ -60,8 +60,8 @@ SuperHelix warmStrand(HairType type, int n)
 
 // The steps from t = 1 s to 2 s of the shake, over and over (a copy of `warm` every 30
 // steps, outside the timing): the cost follows the samples, which follow the strand's
-// curvature, so a strand left shaking for the whole run (as before the fifth revision) gave
-// figures that depended on how long it ran. afterStep(strand) runs after each step, timed.
+// curvature, so a strand left shaking for the whole run would give figures that depend on how
+// long it ran. afterStep(strand) runs after each step, timed.
 template <class AfterStep>
 void cycledSteps(benchmark::State& state, const SuperHelix& warm, AfterStep afterStep)
 {
@@ -300,14 +300,21 @@ void BM_StepTolerance(benchmark::State& state)
 void BM_GramSideBySide(benchmark::State& state)
 {
   const SuperHelix warm = warmStrand(static_cast<HairType>(state.range(0)), 10);
-  const int saved = SuperHelix::GramMinSamples;
+  // The warm state in two strands whose specs differ only in the threshold.
+  SuperHelix warmWay[2];
+  for (int way = 0; way < 2; ++way)
+  {
+    StrandSpec spec = warm.spec();
+    spec.gramMinSamples = way == 0 ? 1 << 30 : 1;
+    (void)warmWay[way].initialize(spec, warm.time());
+    (void)warmWay[way].setState(warm.q(), warm.qdot());
+  }
   using Clock = std::chrono::steady_clock;
   double bestC[2] = {1e30, 1e30}, bestStep[2] = {1e30, 1e30};
   for (auto _ : state)
     for (int way = 0; way < 2; ++way)
     {
-      SuperHelix::GramMinSamples = way == 0 ? 1 << 30 : 1;
-      SuperHelix h = warm;
+      SuperHelix h = warmWay[way];
       h.reconstruct();
       h.assemble();
       auto t0 = Clock::now();
@@ -323,7 +330,6 @@ void BM_GramSideBySide(benchmark::State& state)
       bestStep[way] =
           std::min(bestStep[way], std::chrono::duration<double, std::micro>(t1 - t0).count() / 10);
     }
-  SuperHelix::GramMinSamples = saved;
   SuperHelix h = warm;
   h.reconstruct();
   state.counters["C_per_sample_us"] = bestC[0];

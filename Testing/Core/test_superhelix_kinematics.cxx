@@ -723,11 +723,11 @@ TEST(SuperHelixKinematics, VelocityJacobianMatchesFiniteDifferencesOfTheForce)
   // element moments are checked: per sample (threshold above any count) and from the Gram
   // matrix of the helix functions (threshold 1: every element).
   const Curled c;
-  const int saved = SuperHelix::GramMinSamples;
   for (const int threshold : {1000, 1})
   {
-    SuperHelix::GramMinSamples = threshold;
-    SuperHelix h = c.make(0.3, c.q);
+    Curled withThreshold = c;
+    withThreshold.spec.gramMinSamples = threshold;
+    SuperHelix h = withThreshold.make(0.3, c.q);
     h.reconstruct();
     h.assemble();
     h.assembleVelocityJacobian();
@@ -750,7 +750,6 @@ TEST(SuperHelixKinematics, VelocityJacobianMatchesFiniteDifferencesOfTheForce)
           << "column " << b << ", Gram threshold " << threshold;
     }
   }
-  SuperHelix::GramMinSamples = saved;
 }
 
 TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGramMatrix)
@@ -759,8 +758,8 @@ TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGram
   // Gram matrix of the seven helix functions are the same sums in another order, so they
   // must agree to round-off: on strands of every preset (3 to 16 samples per element),
   // moving, after a second on the shaking head. Bound: 1e-12 of max |C| (each entry is a
-  // sum of a few hundred products; measured agreement is reported on failure).
-  const int saved = SuperHelix::GramMinSamples;
+  // sum of a few hundred products; measured agreement is reported on failure). The two ways
+  // are two strands whose specs differ only in the threshold, put in the same state.
   for (int t = 0; t < 4; ++t)
   {
     StrandSpec spec = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType(t)));
@@ -775,18 +774,21 @@ TEST(SuperHelixKinematics, VelocityJacobianIsTheSameSummedPerSampleOrFromTheGram
     Eigen::MatrixXd C[2];
     for (int way = 0; way < 2; ++way)
     {
-      SuperHelix::GramMinSamples = way == 0 ? 1000 : 1;
-      h.reconstruct();
-      h.assemble();
-      h.assembleVelocityJacobian();
-      C[way] = h.velocityJacobian();
+      StrandSpec wayspec = spec;
+      wayspec.gramMinSamples = way == 0 ? 1000 : 1;
+      SuperHelix w;
+      ASSERT_TRUE(w.initialize(wayspec, h.time()).ok());
+      ASSERT_TRUE(w.setState(h.q(), h.qdot()).ok());
+      w.reconstruct();
+      w.assemble();
+      w.assembleVelocityJacobian();
+      C[way] = w.velocityJacobian();
     }
     const double scale = C[0].cwiseAbs().maxCoeff();
     ASSERT_GT(scale, 0);
     EXPECT_LT((C[1] - C[0]).cwiseAbs().maxCoeff(), 1e-12 * scale)
         << "preset " << t << ": " << (C[1] - C[0]).cwiseAbs().maxCoeff() / scale;
   }
-  SuperHelix::GramMinSamples = saved;
 }
 
 TEST(SuperHelixKinematics, GeneralizedForceAfterReconstructIncludesTheWind)
