@@ -1,11 +1,11 @@
-// Many strands at once: stepStrands (a pool of std::threads taking chunks of consecutive
-// strands, each prefetching the next strand of its chunk while it steps one),
+// Many strands at once: stepStrands (chunks of consecutive strands on the run's threads,
+// each thread prefetching the next strand of its chunk while it steps one),
 // SuperHelix::prefetch, and findHairHairContacts from the strands' samples.
 #include "superhelix/SuperHelix.h"
 
+#include "common/Parallel.h"
+
 #include <algorithm>
-#include <atomic>
-#include <thread>
 #include <vector>
 
 namespace hair
@@ -37,39 +37,17 @@ Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, dou
   // prefetcher). Prefetching a strand another thread may be stepping would read its
   // buffers while they are swapped.
   // Chunks of 8, smaller when there are few strands (at least four chunks per thread).
-  const int Chunk = std::max(1, std::min(8, count / (4 * threads)));
-  std::atomic<int> next{0};
-  auto work = [&]()
-  {
-    for (int first = next.fetch_add(Chunk); first < count; first = next.fetch_add(Chunk))
-    {
-      const int last = std::min(count, first + Chunk);
-      for (int i = first; i < last; ++i)
-      {
-        if (i + 1 < last)
-          strands[i + 1].prefetch();
-        results[i] = strands[i].advance(dt, tolerance);
-      }
-    }
-  };
-  if (threads == 1)
-    work();
-  else
-  {
-    std::vector<std::thread> pool;
-    try
-    {
-      for (int t = 1; t < threads; ++t)
-        pool.emplace_back(work);
-    }
-    catch (...)
-    {
-      // No more threads available: the calling thread does the rest.
-    }
-    work();
-    for (auto& th : pool)
-      th.join();
-  }
+  const int chunk = std::max(1, std::min(8, count / (4 * threads)));
+  parallelBlocks(count, chunk, threads,
+                 [&](std::int64_t first, std::int64_t last)
+                 {
+                   for (std::int64_t i = first; i < last; ++i)
+                   {
+                     if (i + 1 < last)
+                       strands[i + 1].prefetch();
+                     results[i] = strands[i].advance(dt, tolerance);
+                   }
+                 });
   for (const Status& s : results)
     if (!s)
       return s;

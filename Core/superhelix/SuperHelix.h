@@ -248,7 +248,7 @@ private:
   void addContactJacobians(double h); // implicit contact terms into the step's Lhs and Rhs
 };
 
-/// Steps every strand by dt on `threads` threads (std::thread; 1: the calling thread
+/// Steps every strand by dt on `threads` threads (common/Parallel.h; 1: the calling thread
 /// only). Returns the first error in strand order; strands that failed keep their state,
 /// the others are advanced.
 Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, double tolerance = 0);

@@ -32,14 +32,7 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "bench_step_callgrind: preset must be 0…3, steps >= 0, N >= 1\n");
     return 2;
   }
-  StrandSpec spec = StrandSpec::uniform(0.3, n, HairParameters::preset(HairType(preset)));
-  spec.seed = 1;
-  HeadShake shake;
-  shake.attachment = Eigen::Vector3d(0.1, 0, 0);
-  shake.attachmentFrame.col(0) = Eigen::Vector3d(0, -1, 0);
-  shake.attachmentFrame.col(1) = Eigen::Vector3d(1, 0, 0);
-  shake.attachmentFrame.col(2) = Eigen::Vector3d(0, 0, 1);
-  spec.root = shake;
+  const StrandSpec spec = shakenStrand(HairType(preset), n);
   SuperHelix h;
   if (Status st = h.initialize(spec); !st)
   {

@@ -20,6 +20,7 @@
 //                            ways interleaved in blocks of a few µs, so that the machine's
 //                            slow periods (seconds long) hit both alike; counters: minimum
 //                            µs per call of each way, and samples per element
+#include "GoldenStates.h"
 #include "HeadShake.h"
 #include "superhelix/SuperHelix.h"
 
@@ -34,20 +35,6 @@ using namespace hair;
 
 namespace
 {
-StrandSpec shakenStrand(HairType type, int n, int id = 0)
-{
-  StrandSpec s = StrandSpec::uniform(0.3, n, HairParameters::preset(type));
-  s.id = id;
-  s.seed = 1 + id;
-  HeadShake shake;
-  shake.attachment = Eigen::Vector3d(0.1, 0.002 * (id % 50), 0);
-  shake.attachmentFrame.col(0) = Eigen::Vector3d(0, -1, 0);
-  shake.attachmentFrame.col(1) = Eigen::Vector3d(1, 0, 0);
-  shake.attachmentFrame.col(2) = Eigen::Vector3d(0, 0, 1);
-  s.root = shake;
-  return s;
-}
-
 // A strand 1 s into the head shake: curved and moving, as in use.
 SuperHelix warmStrand(HairType type, int n)
 {
@@ -192,54 +179,12 @@ void BM_RealTimeGuides(benchmark::State& state)
   state.SetItemsProcessed(state.iterations());
 }
 
-// q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, recorded once the
-// natural curvature and the per-element quadrature rule were in place, before any speed
-// work on them (Testing/Core/test_golden.cxx checks the same values in CTest). A speed change must
-// leave the results the same to round-off: the step is deterministic, and 30 steps amplify a 1e-7
-// relative perturbation of q to < 2e-7 (measured), so round-off stays < 1e-12 relative and 1e-9
-// separates it from a change of the computation.
-constexpr double ReferenceSmooth[30] = {
-    1.5922737531962414,    -16.85074906169794,    5.1838328189659713,   0.98800619864179295,
-    3.0471274488105662,    -0.34956653533683596,  0.91357070243902427,  2.9088588864907834,
-    -0.10363726529722755,  0.6659471100217762,    3.8957262174562883,   0.020034820261155772,
-    0.27289364267736221,   4.7577993064505755,    0.13691999684047396,  -0.055890672116472417,
-    4.693500703619705,     0.15086965531599683,   -0.10350428050937709, 2.5345757491571757,
-    0.14570600378609863,   -0.026021906975813774, 0.19412201769774828,  0.17745473597946593,
-    0.0021220450692968889, -0.37585186496223555,  0.055321273933891774, 0.00031039622294003351,
-    -0.048636949752406566, -0.010970753697031658};
-constexpr double ReferenceWavy[30] = {
-    74.946674377898617,   36.610130506718669, 11.358030844515039,  50.194649502951577,
-    66.528960047679675,   5.0870586984078763, 56.088995658467397,  91.752912380153774,
-    -5.2534305891714146,  52.201111896098446, 77.91227435714616,   7.1975598249657615,
-    32.664227491422629,   99.740324242640497, -2.3665758772481502, 39.522590100792904,
-    94.691670074655661,   3.3831685300242444, 21.030120010014251,  106.09396621198192,
-    0.079927277268686092, 22.711149000349312, 101.43471055880282,  0.96482044611332318,
-    14.68654395256015,    100.11177260015535, 1.255762259245546,   8.7470417852071094,
-    94.855170327519176,   0.47899620560562062};
-constexpr double ReferenceCurly[30] = {
-    31.491562379654447,  165.64701409149092, 30.818368578647725,  94.858520886144348,
-    119.52342313209414,  20.366557714708204, 70.661650673272703,  169.97343196775611,
-    -6.5297467167940013, 53.21625533311088,  147.55583005450436,  -12.627252740619689,
-    44.789074963603319,  161.93721400985123, 0.91928407775772991, 49.218651730932052,
-    163.14777459808434,  4.9342955344937689, 41.90159948445099,   170.26470665063474,
-    0.97612301036669757, 35.254177723118119, 165.65414895321683,  0.19133548938429956,
-    29.620041949461935,  160.80307736858157, 0.39370440444905103, 24.146074502356392,
-    157.76218451464152,  1.0222146049774723};
-constexpr double ReferenceFuzzy[30] = {
-    452.25947829702858,   254.67911078173788,  21.57956459547654,    455.84916319348173,
-    275.34950186916552,   -12.327668883716303, 457.49608290900125,   275.0161678883415,
-    8.4423310285129443,   437.97467332784248,  272.69565583875129,   -4.4129816216380151,
-    447.09753522556957,   266.75846151664024,  0.63952693576956143,  458.53251218499884,
-    279.1602417765971,    0.42261366093269359, 458.19086811437569,   285.01189946711298,
-    0.044863497883796288, 443.115684836936,    286.59958730318016,   -0.15187329324547527,
-    439.42487683787618,   278.40589262466023,  0.075393591803353033, 438.666873362594,
-    269.15859941108027,   0.099003429746303939};
-
+// q after 30 steps of 1/30 s on the head shake (warmStrand), N = 10, against the golden
+// values (Testing/Fixtures/GoldenStates.h, which says why 1e-9 relative).
 void BM_ReferenceState(benchmark::State& state)
 {
   const HairType type = static_cast<HairType>(state.range(0));
-  const double* const refs[] = {ReferenceSmooth, ReferenceWavy, ReferenceCurly, ReferenceFuzzy};
-  const double* ref = refs[static_cast<int>(type)];
+  const double* ref = golden::ShakenQ[static_cast<int>(type)];
   double deviation = 0;
   for (auto _ : state)
   {
@@ -254,7 +199,7 @@ void BM_ReferenceState(benchmark::State& state)
   }
   state.counters["rel_dev"] = deviation;
   state.SetLabel(toString(type));
-  if (!(deviation <= 1e-9))
+  if (!(deviation <= golden::ShakenQTolerance))
     state.SkipWithError("q after 30 steps differs from the recorded reference by more than 1e-9 "
                         "relative: the speed change altered the results.");
 }

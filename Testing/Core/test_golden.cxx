@@ -18,14 +18,7 @@ TEST(Golden, SuperHelixStateAfterThirtyStepsOfTheShake)
 {
   for (int preset = 0; preset < 4; ++preset)
   {
-    StrandSpec spec = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType(preset)));
-    spec.seed = 1;
-    HeadShake shake;
-    shake.attachment = Eigen::Vector3d(0.1, 0, 0);
-    shake.attachmentFrame.col(0) = Eigen::Vector3d(0, -1, 0);
-    shake.attachmentFrame.col(1) = Eigen::Vector3d(1, 0, 0);
-    shake.attachmentFrame.col(2) = Eigen::Vector3d(0, 0, 1);
-    spec.root = shake;
+    const StrandSpec spec = shakenStrand(HairType(preset), 10);
     SuperHelix h;
     ASSERT_TRUE(h.initialize(spec).ok());
     for (int i = 0; i < 30; ++i)
