@@ -605,9 +605,8 @@ Status headOfHair(int count, double maxForce, int frames)
 TEST(HairHairContacts, AHeadOfOverlappingGuidesRunsCappedAndUncapped)
 {
   // The deep initial overlaps of this head push with k δ ≈ 1e-3 N per contact point (30 ×
-  // a strand's weight). With the sub-stepped Super-Helix step of the previous session an
-  // uncapped run failed within the first frames, hence the default cap (1e-4 N); the single
-  // step with implicit tension stiffness (docs/super-helix.md) runs both for 3 s.
+  // a strand's weight), ten times the default cap (1e-4 N); the single step with implicit
+  // tension stiffness (docs/super-helix.md) must run both, capped and uncapped, for 3 s.
   Status st = headOfHair(200, HairHairParameters().maxForce, 90);
   EXPECT_TRUE(st.ok()) << st.message();
   st = headOfHair(200, 1e3, 90);
