@@ -10,22 +10,9 @@
 namespace hair
 {
 
-Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
-                   const RootSamplingOptions& options, std::vector<Root>& roots)
+Status sampleUniformly(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
+                       std::size_t count, std::uint32_t seed, std::vector<Root>& samples)
 {
-  if (Status s = mesh.validate("the scalp surface"); !s)
-  {
-    return s;
-  }
-  if (options.count < 1)
-  {
-    return Status::Error("the number of strands is " + std::to_string(options.count) +
-                         ": give at least 1.");
-  }
-  if (options.candidatesPerRoot < 1)
-  {
-    return Status::Error("candidatesPerRoot must be at least 1.");
-  }
   if (!region.empty() && region.size() != mesh.triangles.size())
   {
     return Status::Error("the scalp region has " + std::to_string(region.size()) + " flags for " +
@@ -57,11 +44,10 @@ Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& re
     return Status::Error("the scalp region is empty (no triangle of positive area is selected): "
                          "choose a region on the surface, or none to use all of it.");
   }
-  std::mt19937_64 rng(options.seed);
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0, 1);
-  const std::size_t m = std::size_t(options.count) * options.candidatesPerRoot;
-  std::vector<Root> candidates(m);
-  for (Root& c : candidates)
+  samples.assign(count, Root{});
+  for (Root& c : samples)
   {
     const double a = U(rng) * total;
     const std::size_t k = std::min<std::size_t>(
@@ -79,6 +65,31 @@ Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& re
     c.position = A + u * (B - A) + v * (C - A);
     c.normal = (B - A).cross(C - A).normalized();
     c.triangle = ids[k];
+  }
+  return Status::Ok();
+}
+
+Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
+                   const RootSamplingOptions& options, std::vector<Root>& roots)
+{
+  if (Status s = mesh.validate("the scalp surface"); !s)
+  {
+    return s;
+  }
+  if (options.count < 1)
+  {
+    return Status::Error("the number of strands is " + std::to_string(options.count) +
+                         ": give at least 1.");
+  }
+  if (options.candidatesPerRoot < 1)
+  {
+    return Status::Error("candidatesPerRoot must be at least 1.");
+  }
+  const std::size_t m = std::size_t(options.count) * options.candidatesPerRoot;
+  std::vector<Root> candidates;
+  if (Status s = sampleUniformly(mesh, region, m, options.seed, candidates); !s)
+  {
+    return s;
   }
   // Farthest-point selection, starting from the first candidate.
   std::vector<double> nearest(m, std::numeric_limits<double>::infinity());

@@ -26,6 +26,13 @@ struct RootSamplingOptions
   int candidatesPerRoot = 8;
 };
 
+/// `count` points drawn uniformly by area (seeded) over the triangles of `mesh` where
+/// `region` is non-zero (all when empty), with their triangles' normals: the candidates of
+/// sampleRoots, and the roots of rendered hair. Refuses an empty region. The mesh must have
+/// passed validate().
+Status sampleUniformly(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
+                       std::size_t count, std::uint32_t seed, std::vector<Root>& samples);
+
 /// Spreads `count` roots evenly over the triangles of `mesh` where `region` is non-zero
 /// (all triangles when `region` is empty): candidates are drawn uniformly by area (seeded),
 /// then roots are picked one by one as the candidate farthest from those already picked

@@ -1,0 +1,571 @@
+#include "render/HairInterpolation.h"
+
+#include "common/Parallel.h"
+#include "strands/RootSampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <unordered_map>
+
+namespace hair
+{
+
+namespace
+{
+
+double smoothstep(double x)
+{
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+/// Guide roots hashed in a uniform grid, for the nearest guides of a point.
+class RootGrid
+{
+public:
+  RootGrid(const std::vector<Eigen::Vector3d>& roots, double cell) : Roots(roots), Cell(cell)
+  {
+    for (std::size_t i = 0; i < roots.size(); ++i)
+      Cells[key(index(roots[i]))].push_back(static_cast<int>(i));
+    Lower = Upper = roots.front();
+    for (const Eigen::Vector3d& r : roots)
+    {
+      Lower = Lower.cwiseMin(r);
+      Upper = Upper.cwiseMax(r);
+    }
+  }
+
+  /// The `k` guides nearest to x (fewer when there are fewer), nearest first, with their
+  /// distances.
+  void nearest(const Eigen::Vector3d& x, int k, std::vector<std::pair<double, int>>& out) const
+  {
+    k = std::min<int>(k, static_cast<int>(Roots.size()));
+    const Eigen::Vector3i c = index(x);
+    const double span = (Upper - Lower).norm() + (x - Lower).norm() + Cell;
+    for (int ring = 1;; ring *= 2)
+    {
+      out.clear();
+      const double cells = std::pow(2.0 * ring + 1, 3);
+      if (cells > 27.0 * double(Cells.size()) + 1000 || ring * Cell > span)
+      {
+        // Far from every root: all of them, nearest first.
+        for (std::size_t g = 0; g < Roots.size(); ++g)
+          out.emplace_back((Roots[g] - x).norm(), static_cast<int>(g));
+        std::partial_sort(out.begin(), out.begin() + k, out.end());
+        out.resize(k);
+        return;
+      }
+      for (int i = -ring; i <= ring; ++i)
+        for (int j = -ring; j <= ring; ++j)
+          for (int l = -ring; l <= ring; ++l)
+          {
+            const auto it = Cells.find(key(c + Eigen::Vector3i(i, j, l)));
+            if (it == Cells.end())
+              continue;
+            for (int g : it->second)
+              out.emplace_back((Roots[g] - x).norm(), g);
+          }
+      // Every guide within ring·Cell of x is in the cells searched.
+      if (static_cast<int>(out.size()) >= k)
+      {
+        std::partial_sort(out.begin(), out.begin() + k, out.end());
+        if (out[k - 1].first <= ring * Cell)
+        {
+          out.resize(k);
+          return;
+        }
+      }
+    }
+  }
+
+private:
+  Eigen::Vector3i index(const Eigen::Vector3d& x) const
+  {
+    return (x / Cell).array().floor().cast<int>();
+  }
+  static std::int64_t key(const Eigen::Vector3i& c)
+  {
+    return (std::int64_t(c.x() & 0x1fffff) << 42) | (std::int64_t(c.y() & 0x1fffff) << 21) |
+           std::int64_t(c.z() & 0x1fffff);
+  }
+  const std::vector<Eigen::Vector3d>& Roots;
+  double Cell;
+  Eigen::Vector3d Lower, Upper;
+  std::unordered_map<std::int64_t, std::vector<int>> Cells;
+};
+
+/// One guide resampled at evenly spaced fractions of its length.
+struct Resampled
+{
+  std::vector<Eigen::Vector3d> position;
+  std::vector<Eigen::Matrix3d> frame; ///< columns: tangent, director 1, director 2
+  std::vector<double> scalars;        ///< samples × scalar count
+};
+
+Eigen::Matrix3d orthonormalFrame(const Eigen::Vector3d& tangent, const Eigen::Vector3d& director)
+{
+  const Eigen::Vector3d t = tangent.normalized();
+  Eigen::Vector3d d = director - director.dot(t) * t;
+  if (d.squaredNorm() < 1e-24)
+    d = t.unitOrthogonal();
+  d.normalize();
+  Eigen::Matrix3d f;
+  f.col(0) = t;
+  f.col(1) = d;
+  f.col(2) = t.cross(d);
+  return f;
+}
+
+/// The guides' typical spacing: the median distance of a root to its nearest other root.
+double guideSpacing(const std::vector<Eigen::Vector3d>& roots)
+{
+  double spacing = 0.02;
+  if (roots.size() > 1)
+  {
+    double extent = 0;
+    for (const Eigen::Vector3d& r : roots)
+      extent = std::max(extent, (r - roots.front()).norm());
+    const RootGrid coarse(roots, std::max(extent / std::cbrt(double(roots.size())), 1e-6));
+    std::vector<double> nearestOther(roots.size());
+    std::vector<std::pair<double, int>> found;
+    for (std::size_t k = 0; k < roots.size(); ++k)
+    {
+      coarse.nearest(roots[k], 2, found);
+      nearestOther[k] = found.size() > 1 ? found[1].first : extent;
+    }
+    std::nth_element(nearestOther.begin(), nearestOther.begin() + nearestOther.size() / 2,
+                     nearestOther.end());
+    spacing = std::max(nearestOther[nearestOther.size() / 2], 1e-6);
+  }
+  return spacing;
+}
+
+} // namespace
+
+Status InterpolationOptions::validate() const
+{
+  auto bad = [](const std::string& what, double value, const std::string& want)
+  {
+    return Status::Error("Hair interpolation: " + what + " is " + std::to_string(value) +
+                         "; give " + want + ".");
+  };
+  if (strands < 1 || strands > 10000000)
+    return bad("the number of rendered strands", strands, "1 … 10 000 000");
+  if (pointsPerStrand < 2 || pointsPerStrand > 1000)
+    return bad("the points per strand", pointsPerStrand, "2 … 1000");
+  if (std::isnan(clumpStart) || std::isnan(clumpEnd) || clumpStart > 1 || clumpEnd > 1)
+    return bad("the clumping profile (start)", clumpStart,
+               "fractions of the strand in [0, 1] with start ≤ end, or negative for the hair "
+               "type's");
+  if (clumpStart >= 0 && clumpEnd >= 0 && clumpEnd < clumpStart)
+    return bad("the clumping profile's end", clumpEnd, "an end at or after its start");
+  if ((clumpStart >= 0) != (clumpEnd >= 0))
+    return bad("the clumping profile's start", clumpStart,
+               "both start and end (or both negative, for the hair type's)");
+  if (!(std::isfinite(clumpRadius) && clumpRadius >= 0 && clumpRadius <= 1))
+    return bad("the clump radius", clumpRadius, "a length in metres in [0, 1]");
+  if (!(std::isfinite(tipDistance) && tipDistance > 0))
+    return bad("the tip-distance threshold", tipDistance, "a positive length in metres");
+  if (!(variation >= 0 && variation < 1))
+    return bad("the random variation", variation, "a fraction in [0, 1)");
+  if (neighbours < 1 || neighbours > 7)
+    return bad("the guides per rendered root", neighbours, "1 … 7");
+  if (threads < 1)
+    return bad("the number of threads", threads, "at least 1");
+  return Status::Ok();
+}
+
+std::pair<double, double> clumpProfile(const HairParameters& hair)
+{
+  const Eigen::Vector3d natural = hair.naturalCurvature();
+  const double kappa = std::hypot(natural.y(), natural.z());
+  const double c = std::min(1.0, kappa / 200.0);
+  const double start = 0.75 - 0.55 * c;
+  return {start, std::min(1.0, start + 0.25)};
+}
+
+Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
+                               const InterpolationOptions& options)
+{
+  Roots.clear();
+  if (Status s = options.validate(); !s)
+    return s;
+  if (guides.empty())
+    return Status::Error("Hair interpolation: there are no guides to interpolate.");
+  for (std::size_t k = 0; k < guides.size(); ++k)
+    if (Status s = guides[k].validate("guide " + std::to_string(k)); !s)
+      return s;
+  if (Status s = scalp.validate("the scalp surface"); !s)
+    return s;
+
+  std::vector<Eigen::Vector3d> roots(guides.size());
+  for (std::size_t k = 0; k < guides.size(); ++k)
+    roots[k] = guides[k].root;
+  const double spacing = guideSpacing(roots);
+  const RootGrid grid(roots, spacing);
+
+  // The scalp near the roots: triangles whose centroid is within 1.5 spacings of a root.
+  std::vector<std::uint8_t> region(scalp.triangles.size(), 0);
+  std::vector<std::pair<double, int>> found;
+  bool any = false;
+  for (std::size_t t = 0; t < scalp.triangles.size(); ++t)
+  {
+    const auto& tri = scalp.triangles[t];
+    const Eigen::Vector3d c =
+        (scalp.points[tri[0]] + scalp.points[tri[1]] + scalp.points[tri[2]]) / 3;
+    grid.nearest(c, 1, found);
+    region[t] = found[0].first <= 1.5 * spacing;
+    any = any || region[t];
+  }
+  if (!any)
+    return Status::Error("Hair interpolation: no part of the scalp surface lies near the guides' "
+                         "roots (within 1.5 × their spacing of " +
+                         std::to_string(spacing) + " m): give the surface the guides grew on.");
+  std::vector<Root> samples;
+  if (Status s =
+          sampleUniformly(scalp, region, std::size_t(options.strands), options.seed, samples);
+      !s)
+    return s;
+  std::vector<Eigen::Vector3d> positions(samples.size());
+  for (std::size_t r = 0; r < samples.size(); ++r)
+    positions[r] = samples[r].position;
+  return bind(guides, positions, options);
+}
+
+Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
+                               const std::vector<Eigen::Vector3d>& rendered,
+                               const InterpolationOptions& options)
+{
+  Roots.clear();
+  if (Status s = options.validate(); !s)
+    return s;
+  if (guides.empty())
+    return Status::Error("Hair interpolation: there are no guides to interpolate.");
+  if (rendered.empty())
+    return Status::Error("Hair interpolation: there are no rendered roots.");
+  for (const Eigen::Vector3d& x : rendered)
+    if (!x.allFinite())
+      return Status::Error("Hair interpolation: a rendered root is not finite.");
+  std::vector<Eigen::Vector3d> roots(guides.size());
+  std::vector<Eigen::Matrix3d> frames(guides.size());
+  for (std::size_t k = 0; k < guides.size(); ++k)
+  {
+    if (Status s = guides[k].validate("guide " + std::to_string(k)); !s)
+      return s;
+    roots[k] = guides[k].root;
+    frames[k] = guides[k].rootFrame();
+  }
+  const double spacing = guideSpacing(roots);
+  const RootGrid grid(roots, spacing);
+  std::vector<std::pair<double, int>> found;
+  std::vector<Binding> bound(rendered.size());
+  std::mt19937_64 rng(options.seed ^ 0x9e3779b97f4a7c15ull);
+  std::uniform_real_distribution<double> U(0, 1);
+  const int k = options.method == InterpolationMethod::Clusters ? 1 : options.neighbours;
+  for (std::size_t r = 0; r < rendered.size(); ++r)
+  {
+    Binding& b = bound[r];
+    b.root = rendered[r];
+    b.length = 1 - options.variation * U(rng);
+    grid.nearest(b.root, k + 1, found);
+    b.count = std::min<int>(k, static_cast<int>(found.size()));
+    // Modified Shepard weights (Franke and Nielson 1980): ((R − d)₊ / (R d))², R the
+    // distance to the next guide beyond those used, so that a weight reaches 0 before its
+    // guide leaves the set: the rendered hair is continuous over the scalp.
+    const double R = static_cast<int>(found.size()) > b.count ? found[b.count].first : 0;
+    double sum = 0;
+    int exact = -1;
+    for (int i = 0; i < b.count; ++i)
+    {
+      const double d = found[i].first;
+      b.guides[i] = found[i].second;
+      if (d < 1e-12 * spacing)
+        exact = i;
+      const double w = R > 0 ? std::pow(std::max(R - d, 0.0) / (R * d), 2) : 1 / (d * d);
+      b.weights[i] = w;
+      sum += w;
+      b.offsets[i] = frames[b.guides[i]].transpose() * (b.root - roots[b.guides[i]]);
+    }
+    if (exact >= 0 || !(sum > 0) || !std::isfinite(sum))
+    {
+      for (int i = 0; i < b.count; ++i)
+        b.weights[i] = 0;
+      b.weights[exact >= 0 ? exact : 0] = 1;
+    }
+    else
+    {
+      for (int i = 0; i < b.count; ++i)
+        b.weights[i] /= sum;
+    }
+    b.clump = 0; // the nearest
+  }
+  // Clump offsets: the lateral offset from the clump guide, scaled so that the guide's
+  // cluster fits within the clump radius at the tips (a disc stays a disc).
+  std::vector<double> clusterRadius(guides.size(), 0);
+  for (const Binding& b : bound)
+  {
+    const Eigen::Vector3d& o = b.offsets[b.clump];
+    clusterRadius[b.guides[b.clump]] =
+        std::max(clusterRadius[b.guides[b.clump]], std::hypot(o.y(), o.z()));
+  }
+  for (Binding& b : bound)
+  {
+    const Eigen::Vector3d& o = b.offsets[b.clump];
+    const double radius = clusterRadius[b.guides[b.clump]];
+    const double scale = radius > options.clumpRadius ? options.clumpRadius / radius : 1.0;
+    b.clumpOffset = Eigen::Vector3d(0, o.y() * scale, o.z() * scale);
+  }
+
+  Options = options;
+  RestRoots = std::move(roots);
+  RestFrames = std::move(frames);
+  if (options.clumpStart >= 0)
+  {
+    ClumpStart = options.clumpStart;
+    ClumpEnd = options.clumpEnd;
+  }
+  else
+  {
+    // The guides' most common hair type decides (the first guide's when they are mixed).
+    std::tie(ClumpStart, ClumpEnd) = clumpProfile(guides.front().hair);
+  }
+  Roots = std::move(bound);
+  return Status::Ok();
+}
+
+Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts,
+                                   RenderedHair& out, const Progress& progress) const
+{
+  if (!isBound())
+    return Status::Error("Hair interpolation: bind the rendered strands to guides first.");
+  const std::size_t G = guides.size();
+  if (G != RestRoots.size())
+    return Status::Error("Hair interpolation: the rendered hair was bound to " +
+                         std::to_string(RestRoots.size()) + " guides, and " + std::to_string(G) +
+                         " are given: bind again to these guides.");
+  if (guides.offsets.front() != 0 || guides.offsets.back() != guides.points.size())
+    return Status::Error("Hair interpolation: the guides' offsets do not cover their points.");
+  for (std::size_t g = 0; g < G; ++g)
+    if (guides.offsets[g + 1] < guides.offsets[g] + 2)
+      return Status::Error("Hair interpolation: guide " + std::to_string(g) +
+                           " has fewer than 2 points.");
+  const std::size_t P = guides.points.size();
+  if (!guides.tangents.empty() && guides.tangents.size() != P)
+    return Status::Error("Hair interpolation: the guides have " + std::to_string(P) +
+                         " points and " + std::to_string(guides.tangents.size()) + " tangents.");
+  if (!guides.directors.empty() && guides.directors.size() != P)
+    return Status::Error("Hair interpolation: the guides have " + std::to_string(P) +
+                         " points and " + std::to_string(guides.directors.size()) + " directors.");
+  for (const auto& [name, values] : guides.scalars)
+    if (values.size() != P)
+      return Status::Error("Hair interpolation: the guides' array " + name + " has " +
+                           std::to_string(values.size()) + " values for " + std::to_string(P) +
+                           " points.");
+  for (const Eigen::Vector3d& x : guides.points)
+    if (!x.allFinite())
+      return Status::Error("Hair interpolation: a guide point is not finite (NaN or infinite).");
+
+  const int n = Options.pointsPerStrand;
+  const int M = 2 * (n - 1) + 1; // samples per guide
+  const int S = static_cast<int>(guides.scalars.size());
+  std::vector<const std::vector<double>*> scalarArrays;
+  for (const auto& entry : guides.scalars)
+    scalarArrays.push_back(&entry.second);
+
+  // Each guide at M even fractions of its length (by chord length along its polyline).
+  std::vector<Resampled> curves(G);
+  std::vector<Eigen::Vector3d> tips(G);
+  parallelBlocks(
+      static_cast<std::int64_t>(G), 8, Options.threads,
+      [&](std::int64_t begin, std::int64_t end)
+      {
+        std::vector<double> chord;
+        std::vector<Eigen::Vector3d> tangent, director;
+        for (std::int64_t g = begin; g < end; ++g)
+        {
+          const std::size_t a = guides.offsets[g], m = guides.offsets[g + 1] - a;
+          const Eigen::Vector3d* x = &guides.points[a];
+          chord.assign(m, 0);
+          for (std::size_t i = 1; i < m; ++i)
+            chord[i] = chord[i - 1] + (x[i] - x[i - 1]).norm();
+          tangent.resize(m);
+          director.resize(m);
+          for (std::size_t i = 0; i < m; ++i)
+          {
+            if (!guides.tangents.empty())
+              tangent[i] = guides.tangents[a + i];
+            else
+              tangent[i] = (x[std::min(i + 1, m - 1)] - x[i > 0 ? i - 1 : 0]).normalized();
+          }
+          if (!guides.directors.empty())
+          {
+            for (std::size_t i = 0; i < m; ++i)
+              director[i] = guides.directors[a + i];
+          }
+          else
+          {
+            // Parallel transport of the rest root frame's first director along the curve.
+            director[0] = RestFrames[g].col(1);
+            for (std::size_t i = 1; i < m; ++i)
+            {
+              const Eigen::Quaterniond turn =
+                  Eigen::Quaterniond::FromTwoVectors(tangent[i - 1], tangent[i]);
+              director[i] = turn * director[i - 1];
+            }
+          }
+          Resampled& c = curves[g];
+          c.position.resize(M);
+          c.frame.resize(M);
+          c.scalars.assign(std::size_t(M) * S, 0);
+          const double length = chord[m - 1];
+          std::size_t seg = 0;
+          for (int j = 0; j < M; ++j)
+          {
+            const double s = length * j / (M - 1);
+            while (seg + 2 < m && chord[seg + 1] < s)
+              ++seg;
+            const double span = chord[seg + 1] - chord[seg];
+            const double f = span > 0 ? std::clamp((s - chord[seg]) / span, 0.0, 1.0) : 0.0;
+            c.position[j] = (1 - f) * x[seg] + f * x[seg + 1];
+            c.frame[j] = orthonormalFrame((1 - f) * tangent[seg] + f * tangent[seg + 1],
+                                          (1 - f) * director[seg] + f * director[seg + 1]);
+            for (int q = 0; q < S; ++q)
+              c.scalars[std::size_t(j) * S + q] =
+                  (1 - f) * (*scalarArrays[q])[a + seg] + f * (*scalarArrays[q])[a + seg + 1];
+          }
+          tips[g] = x[m - 1];
+        }
+      });
+
+  const std::size_t strands = Roots.size();
+  RenderedHair hair;
+  hair.pointsPerStrand = n;
+  hair.points.resize(strands * n * 3);
+  hair.tangents.resize(strands * n * 3);
+  hair.parameter.resize(strands * n);
+  hair.guide.resize(strands);
+  for (const auto& entry : guides.scalars)
+    hair.scalars[entry.first].resize(strands * n);
+  std::vector<std::vector<float>*> outScalars;
+  for (auto& entry : hair.scalars)
+    outScalars.push_back(&entry.second);
+
+  const bool clusters = Options.method == InterpolationMethod::Clusters;
+  const double T = Options.tipDistance;
+  // Strands in chunks, each on all threads, with progress (and abort) between chunks on
+  // the calling thread. Per block: its push-out counts, merged in block order.
+  const std::int64_t grain = 256;
+  const std::int64_t chunk = 64 * grain;
+  std::vector<long> pushed(blockCount(strands, grain), 0), inside(pushed.size(), 0);
+  std::vector<double> deepest(pushed.size(), 0);
+  for (std::int64_t first = 0; first < std::int64_t(strands); first += chunk)
+  {
+    const std::int64_t last = std::min<std::int64_t>(strands, first + chunk);
+    parallelBlocks(
+        last - first, grain, Options.threads,
+        [&](std::int64_t begin, std::int64_t end)
+        {
+          const std::int64_t block = (first + begin) / grain;
+          std::vector<Eigen::Vector3d> p(n);
+          std::vector<double> value(S);
+          for (std::int64_t r = first + begin; r < first + end; ++r)
+          {
+            const Binding& b = Roots[r];
+            const int c = b.guides[b.clump];
+            // Guides whose tips have parted from the clump guide's stop weighing in.
+            double w[8], sum = 0;
+            for (int i = 0; i < b.count; ++i)
+            {
+              const double d = (tips[b.guides[i]] - tips[c]).norm();
+              w[i] = b.weights[i] * (1 - smoothstep((d - T) / T));
+              sum += w[i];
+            }
+            for (int i = 0; i < b.count; ++i)
+              w[i] = sum > 0 ? w[i] / sum : (i == b.clump ? 1.0 : 0.0);
+            for (int j = 0; j < n; ++j)
+            {
+              const double u = b.length * j / (n - 1);
+              const double x = u * (M - 1);
+              const int i0 = std::min(static_cast<int>(x), M - 2);
+              const double f = x - i0;
+              auto carried = [&](int g, const Eigen::Vector3d& offset)
+              {
+                const Resampled& cv = curves[g];
+                return Eigen::Vector3d((1 - f) * (cv.position[i0] + cv.frame[i0] * offset) +
+                                       f * (cv.position[i0 + 1] + cv.frame[i0 + 1] * offset));
+              };
+              // 0 where the guides are interpolated, 1 where the strand follows its clump.
+              const double profile =
+                  smoothstep(ClumpEnd > ClumpStart ? (u - ClumpStart) / (ClumpEnd - ClumpStart)
+                                                   : (u >= ClumpStart ? 1.0 : 0.0));
+              const double blend = clusters ? 1.0 : profile;
+              const Eigen::Vector3d clumpOffset =
+                  (1 - profile) * b.offsets[b.clump] + profile * b.clumpOffset;
+              Eigen::Vector3d point = blend * carried(c, clumpOffset);
+              for (int q = 0; q < S; ++q)
+                value[q] = blend * ((1 - f) * curves[c].scalars[std::size_t(i0) * S + q] +
+                                    f * curves[c].scalars[std::size_t(i0 + 1) * S + q]);
+              if (blend < 1)
+              {
+                for (int i = 0; i < b.count; ++i)
+                {
+                  if (w[i] == 0)
+                    continue;
+                  const int g = b.guides[i];
+                  point += (1 - blend) * w[i] * carried(g, b.offsets[i]);
+                  for (int q = 0; q < S; ++q)
+                    value[q] += (1 - blend) * w[i] *
+                                ((1 - f) * curves[g].scalars[std::size_t(i0) * S + q] +
+                                 f * curves[g].scalars[std::size_t(i0 + 1) * S + q]);
+                }
+              }
+              // Out of the body: one look-up where a part is near.
+              if (!parts.empty())
+              {
+                PartContact contact;
+                if (deepestPart(parts, point, 0, contact) && contact.depth > 0)
+                {
+                  ++pushed[block];
+                  deepest[block] = std::max(deepest[block], contact.depth);
+                  point += (contact.depth + 1e-5) * contact.normal;
+                  double depth = 0;
+                  if (insideDepth(parts, point, depth))
+                    ++inside[block];
+                }
+              }
+              p[j] = point;
+              const std::size_t k = std::size_t(r) * n + j;
+              hair.parameter[k] = float(double(j) / (n - 1));
+              for (int q = 0; q < S; ++q)
+                (*outScalars[q])[k] = float(value[q]);
+            }
+            for (int j = 0; j < n; ++j)
+            {
+              const Eigen::Vector3d t =
+                  (p[std::min(j + 1, n - 1)] - p[std::max(j - 1, 0)]).normalized();
+              const std::size_t k = (std::size_t(r) * n + j) * 3;
+              for (int a = 0; a < 3; ++a)
+              {
+                hair.points[k + a] = float(p[j][a]);
+                hair.tangents[k + a] = float(t[a]);
+              }
+            }
+            hair.guide[r] = c;
+          }
+        });
+    if (progress && !progress(double(last) / strands))
+      return Status::Error("Hair interpolation: aborted.");
+  }
+  for (std::size_t i = 0; i < pushed.size(); ++i)
+  {
+    hair.pushedOut += pushed[i];
+    hair.stillInside += inside[i];
+    hair.deepest = std::max(hair.deepest, deepest[i]);
+  }
+  out = std::move(hair);
+  return Status::Ok();
+}
+
+} // namespace hair

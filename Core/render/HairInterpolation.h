@@ -1,0 +1,134 @@
+#pragma once
+// Rendered hair from the guides: many strands rooted over the scalp, each following the
+// guides near it. Two methods: the semi-interpolation of Bertails, Audoly, Cani et al. 2006
+// (§4.1, Figure 4: interpolated between guides near the scalp, following one guide, a
+// clump, near the tips, never across guides whose tips have parted), and the clusters of
+// Kurihara, Anjyo and Thalmann 1993 (copies of one guide). Offsets are carried in the
+// guides' material frames, so a curly guide gives curly rendered hair. docs/hair-interpolation.md.
+#include "collision/PosedPart.h"
+#include "common/Progress.h"
+#include "common/Status.h"
+#include "geometry/TriangleMesh.h"
+#include "strands/GuideStrand.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hair
+{
+
+enum class InterpolationMethod
+{
+  SemiInterpolation = 0, ///< Bertails et al. 2006
+  Clusters = 1           ///< Kurihara et al. 1993
+};
+
+struct InterpolationOptions
+{
+  InterpolationMethod method = InterpolationMethod::SemiInterpolation;
+  int strands = 50000;      ///< rendered strands
+  int pointsPerStrand = 32; ///< points of each, root and tip included
+  /// Where clumping begins and where it is complete, as fractions of the strand from the
+  /// root; negative: from the guides' hair type (clumpProfile()).
+  double clumpStart = -1;
+  double clumpEnd = -1;
+  double clumpRadius = 0.004; ///< m: the largest distance of a rendered tip from its clump's guide
+  /// m: a guide whose tip is farther than this from the clump guide's tip stops weighing
+  /// in, fading out between 1× and 2× (no popping).
+  double tipDistance = 0.04;
+  /// Relative random shortening of rendered strands, in [0, 1): a strand is between
+  /// (1 − variation) and 1 times the guides' length.
+  double variation = 0.1;
+  std::uint32_t seed = 1;
+  /// Guides per rendered root for the semi-interpolation (the nearest ones).
+  int neighbours = 3;
+  int threads = 1;
+  Status validate() const;
+};
+
+/// Where clumping begins and ends (fractions of the strand) for a hair type: straight hair
+/// interpolates over most of its length, curly hair clumps early (Bertails et al. §4.1).
+/// From the natural curvature κ of the type's helix, c = min(1, κ / 200 m⁻¹): start
+/// 0.75 − 0.55 c, end start + 0.25.
+std::pair<double, double> clumpProfile(const HairParameters& hair);
+
+/// The guides at one instant, as the pipeline gives them: a polyline per guide (root
+/// first), and per point the unit tangent and the first director of the material frame
+/// (perpendicular to the tangent). Empty tangents are taken from the points; empty directors
+/// are carried from the rest root frame by parallel transport (right for guides at rest).
+struct GuideCurves
+{
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::size_t> offsets; ///< guide k owns points offsets[k] … offsets[k+1]−1
+  std::vector<Eigen::Vector3d> tangents;
+  std::vector<Eigen::Vector3d> directors;
+  /// Per-point scalars carried over to the rendered hair (speed, curvature, …).
+  std::map<std::string, std::vector<double>> scalars;
+  std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+/// The rendered hair of one instant: `strands` polylines of `pointsPerStrand` points each.
+struct RenderedHair
+{
+  int pointsPerStrand = 0;
+  std::vector<float> points;    ///< 3 per point
+  std::vector<float> tangents;  ///< 3 per point, unit
+  std::vector<float> parameter; ///< 0 at the root … 1 at the tip of its strand
+  std::vector<int> guide;       ///< per strand: the guide it clumps to (or copies)
+  std::map<std::string, std::vector<float>> scalars;
+  long pushedOut = 0;   ///< points that were inside a body part and were pushed out
+  double deepest = 0;   ///< m: the deepest of them before the push-out
+  long stillInside = 0; ///< points inside a part after the push-out
+  std::size_t strandCount() const { return guide.size(); }
+};
+
+class HairInterpolation
+{
+public:
+  /// Roots the rendered strands on the scalp near the guides' rest roots (triangles
+  /// within 1.5 times the guides' typical spacing of a root), seeded, and binds each to
+  /// its guides: weights and offsets in their rest root frames. The guides are as grown
+  /// (root, growth, normal and hair type: GuideStrand). Refuses no guides, a bad scalp, no
+  /// scalp near the roots, bad options.
+  Status bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
+              const InterpolationOptions& options);
+  /// The same with the rendered roots given (points on or near the scalp, at rest).
+  Status bind(const std::vector<GuideStrand>& guides, const std::vector<Eigen::Vector3d>& roots,
+              const InterpolationOptions& options);
+  bool isBound() const { return !Roots.empty(); }
+  std::size_t strandCount() const { return Roots.size(); }
+
+  /// The rendered hair for the guides at one instant, each point pushed out of the parts it
+  /// is inside (one table look-up for a point near a part). `guides` must hold the bound
+  /// guides, in order. `progress` may abort (then an error and `out` untouched).
+  Status evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts, RenderedHair& out,
+                  const Progress& progress = {}) const;
+
+  /// Per rendered strand: its root at rest, its guides and weights (for tests).
+  struct Binding
+  {
+    Eigen::Vector3d root;
+    int guides[8];
+    double weights[8];
+    Eigen::Vector3d offsets[8]; ///< in each guide's rest root frame
+    int count = 0;
+    int clump = 0;               ///< index into guides[] of the clump guide (the nearest)
+    Eigen::Vector3d clumpOffset; ///< at the tip, in the clump guide's frame, |·| ≤ clumpRadius
+    double length = 1;           ///< fraction of the guides' length
+  };
+  const std::vector<Binding>& bindings() const { return Roots; }
+  const InterpolationOptions& options() const { return Options; }
+
+private:
+  InterpolationOptions Options;
+  std::vector<Binding> Roots;
+  std::vector<Eigen::Matrix3d> RestFrames;
+  std::vector<Eigen::Vector3d> RestRoots;
+  double ClumpStart = 0, ClumpEnd = 1;
+};
+
+} // namespace hair
