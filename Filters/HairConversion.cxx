@@ -6,6 +6,7 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
+#include <vtkFloatArray.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
@@ -542,6 +543,144 @@ void toEnergyTable(const std::vector<double>& times,
     }
     table->AddColumn(column);
   }
+}
+
+Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCurves& curves)
+{
+  if (Status s = toGuides(input, rest); !s)
+  {
+    return s;
+  }
+  vtkCellData* cd = input->GetCellData();
+  vtkPointData* pd = input->GetPointData();
+  const vtkIdType firstLine = input->GetNumberOfVerts();
+  vtkDataArray* restRoot = cd->GetArray("RestRoot");
+  if (restRoot && (restRoot->GetNumberOfComponents() != 3 ||
+                   restRoot->GetNumberOfTuples() < input->GetNumberOfCells()))
+  {
+    return Status::Error("the guides' cell array 'RestRoot' needs 3 components per cell.");
+  }
+  const vtkIdType P = input->GetNumberOfPoints();
+  auto pointArray = [&](const char* name, int components) -> vtkDataArray*
+  {
+    vtkDataArray* a = pd->GetArray(name);
+    return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == P ? a
+                                                                                        : nullptr;
+  };
+  vtkDataArray* tangent = pointArray("Tangent", 3);
+  vtkDataArray* director = pointArray("Director1", 3);
+  GuideCurves c;
+  c.offsets.push_back(0);
+  std::vector<vtkDataArray*> carried;
+  std::vector<std::vector<double>*> carriedOut;
+  for (const char* name : {"Speed", "curvature"})
+  {
+    if (vtkDataArray* a = pointArray(name, 1))
+    {
+      carried.push_back(a);
+      carriedOut.push_back(&c.scalars[name]);
+    }
+  }
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* lines = input->GetLines();
+  vtkIdType cell = firstLine;
+  std::size_t k = 0;
+  for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell, ++k)
+  {
+    if (restRoot)
+    {
+      restRoot->GetTuple(cell, rest[k].root.data());
+    }
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+    {
+      const vtkIdType id = ids->GetId(i);
+      Eigen::Vector3d x;
+      input->GetPoint(id, x.data());
+      c.points.push_back(x);
+      if (tangent && director)
+      {
+        Eigen::Vector3d t, d;
+        tangent->GetTuple(id, t.data());
+        director->GetTuple(id, d.data());
+        c.tangents.push_back(t);
+        c.directors.push_back(d);
+      }
+      for (std::size_t a = 0; a < carried.size(); ++a)
+      {
+        carriedOut[a]->push_back(carried[a]->GetTuple1(id));
+      }
+    }
+    c.offsets.push_back(c.points.size());
+  }
+  curves = std::move(c);
+  return Status::Ok();
+}
+
+void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output)
+{
+  const vtkIdType strands = static_cast<vtkIdType>(hair.strandCount());
+  const vtkIdType n = hair.pointsPerStrand, P = strands * n;
+  vtkNew<vtkFloatArray> xyz;
+  xyz->SetNumberOfComponents(3);
+  xyz->SetNumberOfTuples(P);
+  std::copy(hair.points.begin(), hair.points.end(), xyz->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(xyz);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(strands + 1);
+  connectivity->SetNumberOfTuples(P);
+  for (vtkIdType r = 0; r <= strands; ++r)
+  {
+    offsets->SetValue(r, r * n);
+  }
+  for (vtkIdType i = 0; i < P; ++i)
+  {
+    connectivity->SetValue(i, i);
+  }
+  vtkNew<vtkCellArray> lines;
+  lines->SetData(offsets, connectivity);
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetLines(lines);
+
+  auto floats = [&](const char* name, int components, const std::vector<float>& values)
+  {
+    vtkNew<vtkFloatArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(components);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
+    std::copy(values.begin(), values.end(), a->GetPointer(0));
+    output->GetPointData()->AddArray(a);
+    return a.GetPointer();
+  };
+  floats("Tangent", 3, hair.tangents);
+  output->GetPointData()->SetScalars(floats("ArcParameter", 1, hair.parameter));
+  for (const auto& [name, values] : hair.scalars)
+  {
+    floats(name == "curvature" ? "Curvature" : name.c_str(), 1, values);
+  }
+  vtkNew<vtkIntArray> strandId, guideId;
+  strandId->SetName("StrandId");
+  guideId->SetName("GuideId");
+  strandId->SetNumberOfTuples(strands);
+  guideId->SetNumberOfTuples(strands);
+  for (vtkIdType r = 0; r < strands; ++r)
+  {
+    strandId->SetValue(r, static_cast<int>(r));
+    guideId->SetValue(r, hair.guide[r]);
+  }
+  output->GetCellData()->AddArray(strandId);
+  output->GetCellData()->AddArray(guideId);
+  auto field = [&](const char* name, double value)
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->InsertNextValue(value);
+    output->GetFieldData()->AddArray(a);
+  };
+  field("PointsPushedOut", double(hair.pushedOut));
+  field("DeepestBeforePushOut", hair.deepest);
+  field("PointsInsideAfterPushOut", double(hair.stillInside));
 }
 
 } // namespace convert

@@ -5,6 +5,7 @@
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
+#include "render/HairInterpolation.h"
 #include "strands/GuideStrand.h"
 
 #include <map>
@@ -66,6 +67,18 @@ void fromGuides(const std::vector<GuideStrand>& guides,
 /// polylines, a missing cell array or one without a value per polyline, and an empty
 /// polyline, naming which.
 Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides);
+
+/// Guides over time (Hair Simulation's or Hair State Reader's output, or Hair Strands' at
+/// rest) for the interpolation: the guides as grown (`rest`: the cell array RestRoot, or the
+/// first point when there is none, RootNormal, GrowthDirection and the per-strand
+/// parameters) and their curves now (points; point arrays Tangent and Director1 when
+/// present; Speed and curvature carried when present). Refuses what toGuides refuses.
+Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCurves& curves);
+
+/// Rendered hair as polylines: float points, point data Tangent, ArcParameter and the
+/// carried scalars, cell data StrandId and GuideId; field data PointsPushedOut,
+/// DeepestBeforePushOut (m) and PointsInsideAfterPushOut.
+void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output);
 
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
 /// Speed, cell data StrandId and every per-strand parameter (named as the pipeline names

@@ -3,6 +3,8 @@
 #include "common/Parallel.h"
 #include "strands/RootSampling.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -374,6 +376,9 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
   for (const auto& entry : guides.scalars)
     scalarArrays.push_back(&entry.second);
 
+  Eigen::Matrix3d headTurn = Eigen::Matrix3d::Identity();
+  if (guides.directors.empty())
+    headTurn = rootMotion(guides).linear();
   // Each guide at M even fractions of its length (by chord length along its polyline).
   std::vector<Resampled> curves(G);
   std::vector<Eigen::Vector3d> tips(G);
@@ -406,8 +411,9 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
           }
           else
           {
-            // Parallel transport of the rest root frame's first director along the curve.
-            director[0] = RestFrames[g].col(1);
+            // The rest root frame turned by the roots' rigid motion, then carried along the
+            // curve by parallel transport.
+            director[0] = headTurn * RestFrames[g].col(1);
             for (std::size_t i = 1; i < m; ++i)
             {
               const Eigen::Quaterniond turn =
@@ -566,6 +572,51 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
   }
   out = std::move(hair);
   return Status::Ok();
+}
+
+Eigen::Isometry3d HairInterpolation::rootMotion(const GuideCurves& guides) const
+{
+  std::vector<Eigen::Vector3d> from, to;
+  const double arm = 0.01;
+  for (std::size_t g = 0; g < std::min(guides.size(), RestRoots.size()); ++g)
+  {
+    const std::size_t a = guides.offsets[g];
+    if (a >= guides.points.size())
+      continue;
+    from.push_back(RestRoots[g]);
+    to.push_back(guides.points[a]);
+    if (!guides.tangents.empty() && !guides.directors.empty())
+    {
+      const Eigen::Matrix3d now = orthonormalFrame(guides.tangents[a], guides.directors[a]);
+      for (int c = 0; c < 2; ++c)
+      {
+        from.push_back(RestRoots[g] + arm * RestFrames[g].col(c));
+        to.push_back(guides.points[a] + arm * now.col(c));
+      }
+    }
+  }
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (from.empty())
+    return motion;
+  Eigen::Vector3d cf = Eigen::Vector3d::Zero(), ct = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < from.size(); ++i)
+  {
+    cf += from[i];
+    ct += to[i];
+  }
+  cf /= double(from.size());
+  ct /= double(to.size());
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < from.size(); ++i)
+    H += (from[i] - cf) * (to[i] - ct).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0)
+    D(2, 2) = -1;
+  const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
+  motion.linear() = R;
+  motion.translation() = ct - R * cf;
+  return motion;
 }
 
 } // namespace hair

@@ -12,6 +12,7 @@
 #include "strands/GuideStrand.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <map>
@@ -59,7 +60,8 @@ std::pair<double, double> clumpProfile(const HairParameters& hair);
 /// The guides at one instant, as the pipeline gives them: a polyline per guide (root
 /// first), and per point the unit tangent and the first director of the material frame
 /// (perpendicular to the tangent). Empty tangents are taken from the points; empty directors
-/// are carried from the rest root frame by parallel transport (right for guides at rest).
+/// are carried by parallel transport from the rest root frame turned by the roots' rigid
+/// motion (rootMotion()).
 struct GuideCurves
 {
   std::vector<Eigen::Vector3d> points;
@@ -107,6 +109,12 @@ public:
   /// guides, in order. `progress` may abort (then an error and `out` untouched).
   Status evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts, RenderedHair& out,
                   const Progress& progress = {}) const;
+
+  /// The rigid motion that takes the guides' roots from rest to where `guides` has them
+  /// (least squares over the roots and, where the guides carry them, points a centimetre
+  /// along their root tangents and first directors; Kabsch's fit): the pose of the head
+  /// that carries them, for the tables that move with it.
+  Eigen::Isometry3d rootMotion(const GuideCurves& guides) const;
 
   /// Per rendered strand: its root at rest, its guides and weights (for tests).
   struct Binding
