@@ -465,7 +465,7 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
   const std::int64_t grain = 256;
   const std::int64_t chunk = 64 * grain;
   std::vector<long> pushed(blockCount(strands, grain), 0), inside(pushed.size(), 0);
-  std::vector<double> deepest(pushed.size(), 0);
+  std::vector<double> deepest(pushed.size(), 0), deepestAfter(pushed.size(), 0);
   for (std::int64_t first = 0; first < std::int64_t(strands); first += chunk)
   {
     const std::int64_t last = std::min<std::int64_t>(strands, first + chunk);
@@ -527,18 +527,31 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
                                  f * curves[g].scalars[std::size_t(i0 + 1) * S + q]);
                 }
               }
-              // Out of the body: one look-up where a part is near.
+              // Out of the body: one look-up where a part is near; a point moved out of
+              // one part into another (the neck, where head and trunk meet) or left inside
+              // by the table's curvature is moved again, up to eight times.
               if (!parts.empty())
               {
                 PartContact contact;
-                if (deepestPart(parts, point, 0, contact) && contact.depth > 0)
+                bool moved = false;
+                for (int pass = 0; pass < 8; ++pass)
+                {
+                  if (!deepestPart(parts, point, 0, contact) || contact.depth <= 0)
+                    break;
+                  if (!moved)
+                    deepest[block] = std::max(deepest[block], contact.depth);
+                  moved = true;
+                  point += (contact.depth + 1e-5) * contact.normal;
+                }
+                if (moved)
                 {
                   ++pushed[block];
-                  deepest[block] = std::max(deepest[block], contact.depth);
-                  point += (contact.depth + 1e-5) * contact.normal;
                   double depth = 0;
                   if (insideDepth(parts, point, depth))
+                  {
                     ++inside[block];
+                    deepestAfter[block] = std::max(deepestAfter[block], depth);
+                  }
                 }
               }
               p[j] = point;
@@ -569,6 +582,7 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
     hair.pushedOut += pushed[i];
     hair.stillInside += inside[i];
     hair.deepest = std::max(hair.deepest, deepest[i]);
+    hair.deepestAfter = std::max(hair.deepestAfter, deepestAfter[i]);
   }
   out = std::move(hair);
   return Status::Ok();

@@ -85,6 +85,7 @@ struct RenderedHair
   long pushedOut = 0;   ///< points that were inside a body part and were pushed out
   double deepest = 0;   ///< m: the deepest of them before the push-out
   long stillInside = 0; ///< points inside a part after the push-out
+  double deepestAfter = 0; ///< m: the deepest of those
   std::size_t strandCount() const { return guide.size(); }
 };
 
