@@ -432,17 +432,16 @@ void fromGuides(const std::vector<GuideStrand>& guides,
     }
     cd->AddArray(a);
   }
-  vtkSmartPointer<vtkDoubleArray> normal =
-      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("RootNormal", 3, n));
-  vtkSmartPointer<vtkDoubleArray> growth =
-      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("GrowthDirection", 3, n));
-  for (vtkIdType k = 0; k < n; ++k)
+  for (const StrandVector& v : strandVectors())
   {
-    normal->SetTuple(k, guides[k].normal.data());
-    growth->SetTuple(k, guides[k].growth.data());
+    vtkSmartPointer<vtkDoubleArray> a =
+        vtkSmartPointer<vtkDoubleArray>::Take(pointArray(v.array, 3, n));
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      a->SetTuple(k, v.get(guides[k]).data());
+    }
+    cd->AddArray(a);
   }
-  cd->AddArray(normal);
-  cd->AddArray(growth);
   cd->SetActiveScalars("StrandId");
 }
 
@@ -475,14 +474,18 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
     }
     return Status::Ok();
   };
-  vtkDataArray *normal = nullptr, *growth = nullptr;
-  if (Status s = cellArray("RootNormal", 3, normal); !s)
+  // The vectors read from the input: the root is the polyline's first point (StrandVector).
+  std::vector<std::pair<const StrandVector*, vtkDataArray*>> vectors;
+  for (const StrandVector& v : strandVectors())
   {
-    return s;
-  }
-  if (Status s = cellArray("GrowthDirection", 3, growth); !s)
-  {
-    return s;
+    if (v.input)
+    {
+      vectors.emplace_back(&v, nullptr);
+      if (Status s = cellArray(v.array, 3, vectors.back().second); !s)
+      {
+        return s;
+      }
+    }
   }
   const auto& table = strandParameters();
   std::vector<vtkDataArray*> parameters(table.size());
@@ -507,8 +510,12 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
     }
     GuideStrand g;
     input->GetPoint(ids->GetId(0), g.root.data());
-    normal->GetTuple(cell, g.normal.data());
-    growth->GetTuple(cell, g.growth.data());
+    for (const auto& [v, a] : vectors)
+    {
+      Eigen::Vector3d x;
+      a->GetTuple(cell, x.data());
+      v->set(g, x);
+    }
     for (std::size_t p = 0; p < table.size(); ++p)
     {
       table[p].set(g, parameters[p]->GetTuple1(cell));
