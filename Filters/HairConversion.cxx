@@ -392,7 +392,46 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     }
     strands->GetCellData()->AddArray(a);
   }
+  for (const auto& [name, values] : header.strandVectors)
+  {
+    std::string arrayName = name;
+    for (const StrandVector& v : strandVectors())
+    {
+      if (name == v.file)
+      {
+        arrayName = v.array;
+      }
+    }
+    vtkSmartPointer<vtkDoubleArray> a = vtkSmartPointer<vtkDoubleArray>::Take(
+        pointArray(arrayName.c_str(), 3, static_cast<vtkIdType>(values.size())));
+    for (std::size_t k = 0; k < values.size(); ++k)
+    {
+      a->SetTuple(static_cast<vtkIdType>(k), values[k].data());
+    }
+    strands->GetCellData()->AddArray(a);
+  }
   addField(strands->GetFieldData(), "Time", {frame.time});
+}
+
+void toStrands(const GuideDrawing& drawing, vtkPolyData* strands)
+{
+  toStrands(drawing.header, drawing.frame, strands);
+  const vtkIdType n = static_cast<vtkIdType>(drawing.frame.positions.size());
+  if (drawing.tangents.size() != std::size_t(n) || drawing.directors.size() != std::size_t(n))
+  {
+    return;
+  }
+  vtkSmartPointer<vtkDoubleArray> tangent =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Tangent", 3, n));
+  vtkSmartPointer<vtkDoubleArray> director =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Director1", 3, n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    tangent->SetTuple(i, drawing.tangents[i].data());
+    director->SetTuple(i, drawing.directors[i].data());
+  }
+  strands->GetPointData()->AddArray(tangent);
+  strands->GetPointData()->AddArray(director);
 }
 
 void fromGuides(const std::vector<GuideStrand>& guides,

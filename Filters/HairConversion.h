@@ -5,6 +5,7 @@
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
+#include "simulation/GuideDrawing.h"
 #include "strands/GuideStrand.h"
 
 #include <map>
@@ -68,9 +69,13 @@ void fromGuides(const std::vector<GuideStrand>& guides,
 Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides);
 
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
-/// Speed, cell data StrandId and every per-strand parameter (named as the pipeline names
-/// them, strands/StrandParameters.h); the frame's time in field data ("Time").
+/// Speed, cell data StrandId and every per-strand parameter and vector (named as the
+/// pipeline names them, strands/StrandParameters.h); the frame's time in field data ("Time").
 void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands);
+
+/// The drawn guides: toStrands of the drawing's header and frame, and the point arrays
+/// Tangent and Director1 (3 components) when the drawing has material frames.
+void toStrands(const GuideDrawing& drawing, vtkPolyData* strands);
 
 /// One row per frame: Time, then one column per energy term.
 void toEnergyTable(const std::vector<double>& times,

@@ -69,6 +69,11 @@ public:
   vtkGetVector3Macro(MotionAxis, double);
   vtkSetVector3Macro(MotionPivot, double);
   vtkGetVector3Macro(MotionPivot, double);
+  /// Super-Helix points per element in the frames (output 0, the state file, the
+  /// penetration measure), drawn exactly on the helices; the projective model's points are
+  /// its segments' nodes whatever this says.
+  vtkSetClampMacro(PointsPerElement, int, 1, 256);
+  vtkGetMacro(PointsPerElement, int);
   vtkSetClampMacro(NumberOfThreads, int, 1, 256);
   vtkGetMacro(NumberOfThreads, int);
   /// Super-Helix: hair::SimulationOptions::quadratureTolerance. Not clamped here:
@@ -142,6 +147,7 @@ protected:
   double MotionFadeIn = 0;
   double MotionAxis[3] = {0, 1, 0};
   double MotionPivot[3]; ///< the bundled body's neck (hair::bundled::neckPivot), by the constructor
+  int PointsPerElement = 16;
   int NumberOfThreads = 2;
   double QuadratureTolerance; ///< Core's default, set by the constructor
   bool Contacts = true;
