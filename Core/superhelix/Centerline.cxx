@@ -17,16 +17,29 @@ void drawSuperHelix(const std::vector<double>& elementLengths, const double* q, 
   Eigen::Matrix3d F = root.orientation;
   Eigen::Vector3d r = root.position, v = root.velocity, omega = root.angularVelocity;
   HelixEnd he;
-  // The point at u on the element that starts at (r, F, v, ω) with curvature k, moving at k̇.
+  // The point at u on the element that starts at (r, F, v, ω) with curvature k, moving at k̇:
+  // g, ∂g/∂k and the frame's rotation E(u) = I + uφ0 K + u²φ1 K² (K = [k]×) from one set of
+  // helix coefficients, as helixPoint and helixEnd form them (of E only the two columns
+  // drawn).
   auto add = [&](const Eigen::Vector3d& k, const Eigen::Vector3d& kd, double u)
   {
-    helixEnd(k, kd, u, he);
-    const Eigen::Vector3d Fg = F * he.g;
-    const Eigen::Matrix3d frame = F * he.E;
+    const HelixCoefficients c = helixCoefficients(k.norm() * u);
+    double f[7], e[3], g[3];
+    helixFunctionValues(u, c, f);
+    helixFrameCoefficients(u, c, e, g);
+    Eigen::Vector3d gu;
+    Eigen::Matrix3d dg;
+    helixGValues(k, u, f[1], f[2], gu);
+    helixJacobianValues(k, f[1], f[2], f[3], f[4], dg);
+    const Eigen::Vector3d kx0 = k.cross(Eigen::Vector3d::UnitX());
+    const Eigen::Vector3d kx1 = k.cross(Eigen::Vector3d::UnitY());
+    const Eigen::Vector3d n0 = Eigen::Vector3d::UnitX() + e[1] * kx0 + e[2] * k.cross(kx0);
+    const Eigen::Vector3d n1 = Eigen::Vector3d::UnitY() + e[1] * kx1 + e[2] * k.cross(kx1);
+    const Eigen::Vector3d Fg = F * gu;
     out.positions.push_back(r + Fg);
-    out.velocities.push_back(v + omega.cross(Fg) + F * (he.dg * kd));
-    out.tangents.push_back(frame.col(0));
-    out.directors.push_back(frame.col(1));
+    out.velocities.push_back(v + omega.cross(Fg) + F * (dg * kd));
+    out.tangents.push_back(F * n0);
+    out.directors.push_back(F * n1);
     out.curvature.push_back(std::hypot(k.y(), k.z()));
     out.twist.push_back(k.x());
   };
