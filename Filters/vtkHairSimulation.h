@@ -7,7 +7,8 @@
  * Collision Map's tables into a scene, time requests into frames, and frames into
  * polylines. Port 0: the strands; port 1: any number of collision tables (optional).
  * Output 0: the strands at the requested time (point data Velocity, Speed, curvature,
- * twist, contact_depth; cell data StrandId and the per-strand parameters). Output 1: one row per
+ * twist, contact_depth, Tangent, Director1; cell data StrandId, the per-strand parameters and
+ * vectors), drawn by hair::drawGuides. Output 1: one row per
  * computed frame of every energy term, the nodes inside a body part and the deepest of them.
  */
 #ifndef vtkHairSimulation_h
