@@ -19,7 +19,8 @@ vtkStandardNewMacro(vtkHairStateReader);
 struct vtkHairStateReader::Internals
 {
   hair::StateFileReader Reader;
-  std::string Warned; ///< the last drawing warning given, so that each is given once
+  /// The last drawing warning given and its file, so that each is given once per file.
+  std::string Warned, WarnedFile;
 };
 
 vtkHairStateReader::vtkHairStateReader() : Internal(std::make_unique<Internals>())
@@ -107,11 +108,13 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
     vtkErrorMacro(<< "Hair State Reader: '" << this->FileName << "': " << s.message());
     return 0;
   }
-  if (!drawing.warning.empty() && drawing.warning != this->Internal->Warned)
+  if (!drawing.warning.empty() &&
+      (drawing.warning != this->Internal->Warned || this->FileName != this->Internal->WarnedFile))
   {
     vtkWarningMacro(<< "Hair State Reader: '" << this->FileName << "': " << drawing.warning);
   }
   this->Internal->Warned = drawing.warning;
+  this->Internal->WarnedFile = this->FileName;
   hair::convert::toStrands(drawing, strands);
   hair::convert::toEnergyTable(times, reader.energies(), energy);
   strands->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
