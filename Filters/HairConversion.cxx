@@ -393,7 +393,46 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     }
     strands->GetCellData()->AddArray(a);
   }
+  for (const auto& [name, values] : header.strandVectors)
+  {
+    std::string arrayName = name;
+    for (const StrandVector& v : strandVectors())
+    {
+      if (name == v.file)
+      {
+        arrayName = v.array;
+      }
+    }
+    vtkSmartPointer<vtkDoubleArray> a = vtkSmartPointer<vtkDoubleArray>::Take(
+        pointArray(arrayName.c_str(), 3, static_cast<vtkIdType>(values.size())));
+    for (std::size_t k = 0; k < values.size(); ++k)
+    {
+      a->SetTuple(static_cast<vtkIdType>(k), values[k].data());
+    }
+    strands->GetCellData()->AddArray(a);
+  }
   addField(strands->GetFieldData(), "Time", {frame.time});
+}
+
+void toStrands(const GuideDrawing& drawing, vtkPolyData* strands)
+{
+  toStrands(drawing.header, drawing.frame, strands);
+  const vtkIdType n = static_cast<vtkIdType>(drawing.frame.positions.size());
+  if (drawing.tangents.size() != std::size_t(n) || drawing.directors.size() != std::size_t(n))
+  {
+    return;
+  }
+  vtkSmartPointer<vtkDoubleArray> tangent =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Tangent", 3, n));
+  vtkSmartPointer<vtkDoubleArray> director =
+      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("Director1", 3, n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    tangent->SetTuple(i, drawing.tangents[i].data());
+    director->SetTuple(i, drawing.directors[i].data());
+  }
+  strands->GetPointData()->AddArray(tangent);
+  strands->GetPointData()->AddArray(director);
 }
 
 void fromGuides(const std::vector<GuideStrand>& guides,
@@ -433,17 +472,16 @@ void fromGuides(const std::vector<GuideStrand>& guides,
     }
     cd->AddArray(a);
   }
-  vtkSmartPointer<vtkDoubleArray> normal =
-      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("RootNormal", 3, n));
-  vtkSmartPointer<vtkDoubleArray> growth =
-      vtkSmartPointer<vtkDoubleArray>::Take(pointArray("GrowthDirection", 3, n));
-  for (vtkIdType k = 0; k < n; ++k)
+  for (const StrandVector& v : strandVectors())
   {
-    normal->SetTuple(k, guides[k].normal.data());
-    growth->SetTuple(k, guides[k].growth.data());
+    vtkSmartPointer<vtkDoubleArray> a =
+        vtkSmartPointer<vtkDoubleArray>::Take(pointArray(v.array, 3, n));
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      a->SetTuple(k, v.get(guides[k]).data());
+    }
+    cd->AddArray(a);
   }
-  cd->AddArray(normal);
-  cd->AddArray(growth);
   cd->SetActiveScalars("StrandId");
 }
 
@@ -476,14 +514,18 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
     }
     return Status::Ok();
   };
-  vtkDataArray *normal = nullptr, *growth = nullptr;
-  if (Status s = cellArray("RootNormal", 3, normal); !s)
+  // The vectors read from the input: the root is the polyline's first point (StrandVector).
+  std::vector<std::pair<const StrandVector*, vtkDataArray*>> vectors;
+  for (const StrandVector& v : strandVectors())
   {
-    return s;
-  }
-  if (Status s = cellArray("GrowthDirection", 3, growth); !s)
-  {
-    return s;
+    if (v.input)
+    {
+      vectors.emplace_back(&v, nullptr);
+      if (Status s = cellArray(v.array, 3, vectors.back().second); !s)
+      {
+        return s;
+      }
+    }
   }
   const auto& table = strandParameters();
   std::vector<vtkDataArray*> parameters(table.size());
@@ -508,8 +550,12 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
     }
     GuideStrand g;
     input->GetPoint(ids->GetId(0), g.root.data());
-    normal->GetTuple(cell, g.normal.data());
-    growth->GetTuple(cell, g.growth.data());
+    for (const auto& [v, a] : vectors)
+    {
+      Eigen::Vector3d x;
+      a->GetTuple(cell, x.data());
+      v->set(g, x);
+    }
     for (std::size_t p = 0; p < table.size(); ++p)
     {
       table[p].set(g, parameters[p]->GetTuple1(cell));

@@ -6,6 +6,7 @@
 #include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
 #include "render/HairInterpolation.h"
+#include "simulation/GuideDrawing.h"
 #include "strands/GuideStrand.h"
 
 #include <map>
@@ -81,9 +82,13 @@ Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCu
 void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output);
 
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
-/// Speed, cell data StrandId and every per-strand parameter (named as the pipeline names
-/// them, strands/StrandParameters.h); the frame's time in field data ("Time").
+/// Speed, cell data StrandId and every per-strand parameter and vector (named as the
+/// pipeline names them, strands/StrandParameters.h); the frame's time in field data ("Time").
 void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands);
+
+/// The drawn guides: toStrands of the drawing's header and frame, and the point arrays
+/// Tangent and Director1 (3 components) when the drawing has material frames.
+void toStrands(const GuideDrawing& drawing, vtkPolyData* strands);
 
 /// One row per frame: Time, then one column per energy term.
 void toEnergyTable(const std::vector<double>& times,

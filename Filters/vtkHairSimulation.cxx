@@ -72,6 +72,7 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "Wind: " << this->Wind[0] << " " << this->Wind[1] << " " << this->Wind[2] << "\n"
      << indent << "BodyMotion: " << this->BodyMotion << " amplitude " << this->MotionAmplitude
      << " frequency " << this->MotionFrequency << " fade-in " << this->MotionFadeIn << " s\n"
+     << indent << "PointsPerElement: " << this->PointsPerElement << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
      << indent << "QuadratureTolerance: " << this->QuadratureTolerance << "\n"
      << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
@@ -215,8 +216,16 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     vtkErrorMacro(<< "Hair Simulation: " << s.message());
     return 0;
   }
+  // The frame as stored, with the material frame at every point (simulation/GuideDrawing.h).
+  hair::GuideDrawing drawing;
+  if (hair::Status s = hair::drawGuides(in.Sim.header(), frame, 0, this->NumberOfThreads, drawing);
+      !s)
+  {
+    vtkErrorMacro(<< "Hair Simulation: " << s.message());
+    return 0;
+  }
   vtkPolyData* strandsOut = vtkPolyData::GetData(outputVector, 0);
-  hair::convert::toStrands(in.Sim.header(), frame, strandsOut);
+  hair::convert::toStrands(drawing, strandsOut);
   strandsOut->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
 
   // Energy and contacts of every frame computed so far.
@@ -275,6 +284,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.frameInterval = 1.0 / this->FrameRate;
   o.threads = this->NumberOfThreads;
   hair::SuperHelixOptions& sh = o.superHelix;
+  sh.pointsPerElement = this->PointsPerElement;
   sh.quadratureTolerance = this->QuadratureTolerance;
   sh.contacts.enabled = this->Contacts;
   sh.contacts.stiffness = this->ContactStiffness;

@@ -7,7 +7,8 @@
  * Collision Map's tables into a scene, time requests into frames, and frames into
  * polylines. Port 0: the strands; port 1: any number of collision tables (optional).
  * Output 0: the strands at the requested time (point data Velocity, Speed, curvature,
- * twist, contact_depth; cell data StrandId and the per-strand parameters). Output 1: one row per
+ * twist, contact_depth, Tangent, Director1; cell data StrandId, the per-strand parameters and
+ * vectors), drawn by hair::drawGuides. Output 1: one row per
  * computed frame of every energy term, the nodes inside a body part and the deepest of them.
  */
 #ifndef vtkHairSimulation_h
@@ -69,6 +70,11 @@ public:
   vtkGetVector3Macro(MotionAxis, double);
   vtkSetVector3Macro(MotionPivot, double);
   vtkGetVector3Macro(MotionPivot, double);
+  /// Super-Helix points per element in the frames (output 0, the state file, the
+  /// penetration measure), drawn exactly on the helices; the projective model's points are
+  /// its segments' nodes whatever this says.
+  vtkSetClampMacro(PointsPerElement, int, 1, 256);
+  vtkGetMacro(PointsPerElement, int);
   vtkSetClampMacro(NumberOfThreads, int, 1, 256);
   vtkGetMacro(NumberOfThreads, int);
   /// Super-Helix: hair::SimulationOptions::quadratureTolerance. Not clamped here:
@@ -142,6 +148,7 @@ protected:
   double MotionFadeIn = 0;
   double MotionAxis[3] = {0, 1, 0};
   double MotionPivot[3]; ///< the bundled body's neck (hair::bundled::neckPivot), by the constructor
+  int PointsPerElement = 16;
   int NumberOfThreads = 2;
   double QuadratureTolerance; ///< Core's default, set by the constructor
   bool Contacts = true;

@@ -2,6 +2,7 @@
 
 #include "HairConversion.h"
 #include "io/StateFile.h"
+#include "simulation/GuideDrawing.h"
 
 #include <vtkDoubleArray.h>
 #include <vtkInformation.h>
@@ -18,6 +19,8 @@ vtkStandardNewMacro(vtkHairStateReader);
 struct vtkHairStateReader::Internals
 {
   hair::StateFileReader Reader;
+  /// The last drawing warning given and its file, so that each is given once per file.
+  std::string Warned, WarnedFile;
 };
 
 vtkHairStateReader::vtkHairStateReader() : Internal(std::make_unique<Internals>())
@@ -31,7 +34,8 @@ vtkHairStateReader::~vtkHairStateReader() = default;
 void vtkHairStateReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << this->FileName << "\n";
+  os << indent << "FileName: " << this->FileName << "\n"
+     << indent << "PointsPerElement: " << this->PointsPerElement << "\n";
 }
 
 int vtkHairStateReader::CanReadFile(const char* fileName)
@@ -97,7 +101,21 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
     vtkErrorMacro(<< "Hair State Reader: " << s.message());
     return 0;
   }
-  hair::convert::toStrands(reader.header(), state, strands);
+  hair::GuideDrawing drawing;
+  if (hair::Status s = hair::drawGuides(reader.header(), state, this->PointsPerElement, 1, drawing);
+      !s)
+  {
+    vtkErrorMacro(<< "Hair State Reader: '" << this->FileName << "': " << s.message());
+    return 0;
+  }
+  if (!drawing.warning.empty() &&
+      (drawing.warning != this->Internal->Warned || this->FileName != this->Internal->WarnedFile))
+  {
+    vtkWarningMacro(<< "Hair State Reader: '" << this->FileName << "': " << drawing.warning);
+  }
+  this->Internal->Warned = drawing.warning;
+  this->Internal->WarnedFile = this->FileName;
+  hair::convert::toStrands(drawing, strands);
   hair::convert::toEnergyTable(times, reader.energies(), energy);
   strands->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
   return 1;

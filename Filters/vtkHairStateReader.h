@@ -4,7 +4,10 @@
  *
  * hair::StateFileReader does the reading; this reader turns a frame into polylines.
  * Output 0 (Strands): the strands at the requested time, one polyline per strand, point
- * data Velocity (and Speed), cell data StrandId and every per-strand parameter of the file.
+ * data Velocity (and Speed), Tangent and Director1 (the material frame, when the file
+ * stores the root poses), cell data StrandId and every per-strand parameter and vector of
+ * the file. Super-Helix strands are drawn again from q at PointsPerElement
+ * (hair::drawGuides).
  * Output 1 (Energy): a vtkTable with one row per frame, columns Time and every energy term.
  * Reports TIME_STEPS (the frames' times); a request between frames gets the frame at or
  * before it.
@@ -30,6 +33,12 @@ public:
   vtkSetStdStringFromCharMacro(FileName);
   vtkGetCharFromStdStringMacro(FileName);
 
+  /// Super-Helix points per element, drawn exactly on the helices from the file's q and root
+  /// poses (a file without root poses is shown at its stored points); the projective model's
+  /// points are its segments' nodes whatever this says.
+  vtkSetClampMacro(PointsPerElement, int, 1, 256);
+  vtkGetMacro(PointsPerElement, int);
+
   /// 1 when `fileName` is a HairDynamics state file (ParaView's File > Open asks this).
   int CanReadFile(const char* fileName);
 
@@ -42,6 +51,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string FileName;
+  int PointsPerElement = 16;
 
 private:
   vtkHairStateReader(const vtkHairStateReader&) = delete;

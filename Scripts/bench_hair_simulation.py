@@ -2,9 +2,10 @@
 body, its head and trunk collision maps, and Hair Simulation (Super-Helix, the demo's shake
 and wind, body contacts on), timed from pvpython.
 
-  xvfb-run -a pvpython Scripts/bench_hair_simulation.py <HairDynamics.so> [guides] [threads]
+  xvfb-run -a pvpython Scripts/bench_hair_simulation.py <HairDynamics.so> [guides] [threads] [points]
 
-guides: 1000 by default; threads: Hair Simulation's NumberOfThreads (2). Prints the time of
+guides: 1000 by default; threads: Hair Simulation's NumberOfThreads (2); points: its Points
+Per Element (16). Prints the time of
 a 2 s run (60 frames computed, each stepped and recorded), and of asking again for frames
 already computed (the conversion to VTK data and the energy table; what scrubbing the time
 costs). Real time is 33 ms per frame.
@@ -23,6 +24,7 @@ if len(sys.argv) < 2:
 LoadPlugin(sys.argv[1], remote=False, ns=globals())
 guides_count = int(sys.argv[2]) if len(sys.argv) > 2 else 1000
 threads = int(sys.argv[3]) if len(sys.argv) > 3 else 2
+per = int(sys.argv[4]) if len(sys.argv) > 4 else 16
 DURATION, RATE = 2.0, 30
 
 body = bundled.body()
@@ -35,12 +37,13 @@ for p in (guides, head, trunk):
     p.UpdatePipeline()
 sim = HairSimulation(Input=guides, Colliders=[head, trunk], Model="Super-Helix",  # noqa: F821
                      Duration=DURATION, FrameRate=RATE, BodyMotion="Shake", MotionAmplitude=0.5,
-                     MotionFrequency=1.0, Wind=[0, 0, -0.5], NumberOfThreads=threads)
+                     MotionFrequency=1.0, Wind=[0, 0, -0.5], NumberOfThreads=threads,
+                     PointsPerElement=per)
 start = time.time()
 sim.UpdatePipeline(DURATION)
 run = time.time() - start
 frames = int(DURATION * RATE)
-print(f"{guides_count} Super-Helix guides, body contacts, {threads} thread(s): "
+print(f"{guides_count} Super-Helix guides, {per} points per element, body contacts, {threads} thread(s): "
       f"{1000 * run / frames:.1f} ms per frame ({frames / run:.1f} frames/s) over {frames} frames")
 again = [i / RATE for i in range(0, frames, 7)]
 start = time.time()

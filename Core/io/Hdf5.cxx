@@ -186,6 +186,16 @@ bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const
   return d.valid() && H5Dwrite(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
 }
 
+bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data)
+{
+  const hsize_t dims[2] = {rows, columns};
+  Handle space(H5Screate_simple(2, dims, nullptr));
+  Handle d(H5Dcreate2(parent, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                      H5P_DEFAULT));
+  return d.valid() &&
+         H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+}
+
 Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape)
 {
   std::vector<hsize_t> dims{0}, maxDims{H5S_UNLIMITED}, chunk{1};

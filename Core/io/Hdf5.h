@@ -81,6 +81,9 @@ bool linkNames(hid_t group, std::vector<std::string>& names);
 /// Creates a 1-D dataset of `count` values of `type` and writes them. False if either fails.
 bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data);
 
+/// Creates a 2-D dataset of `rows` × `columns` doubles (row-major) and writes them.
+bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data);
+
 /// A dataset of doubles that grows by one frame along its first dimension, each frame
 /// shaped `frameShape` (empty: one scalar per frame).
 Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape);

@@ -36,6 +36,14 @@ Status StateHeader::validate() const
                            std::to_string(numberOfStrands()) + " strands.");
     }
   }
+  for (const auto& [name, values] : strandVectors)
+  {
+    if (values.size() != numberOfStrands())
+    {
+      return Status::Error("the strand vector '" + name + "' has " + std::to_string(values.size()) +
+                           " values for " + std::to_string(numberOfStrands()) + " strands.");
+    }
+  }
   return Status::Ok();
 }
 

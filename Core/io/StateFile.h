@@ -24,6 +24,11 @@ struct StateHeader
   int coordinatesPerStrand = 0;
   /// Per-strand parameters, each an array of one value per strand (length, radius, …).
   std::map<std::string, std::vector<double>> strandParameters;
+  /// Per-strand vectors, each an array of one 3-vector per strand (rest root, …).
+  std::map<std::string, std::vector<Eigen::Vector3d>> strandVectors;
+  /// Every frame carries each strand's root pose and rates (StateFrame::rootFrames and
+  /// rootVelocities): what redrawing the strands from q needs. Files without them read.
+  bool rootFrames = false;
   /// Scalar attributes of the run (time step, gravity components, …), stored on /.
   std::map<std::string, double> attributes;
   /// Names of the per-point scalars every frame carries (/frames/<name>, [T, P]).
@@ -41,12 +46,19 @@ struct StateFrame
   std::vector<Eigen::Vector3d> positions;  ///< one per point
   std::vector<Eigen::Vector3d> velocities; ///< one per point
   std::vector<double> q, qdot;             ///< numberOfStrands × coordinatesPerStrand
+  /// Per strand, when the header's rootFrames: RootFrameValues numbers (the root's
+  /// position, then the columns of its material frame: tangent, first and second director)
+  /// and RootVelocityValues numbers (its velocity, then its angular velocity). Else empty.
+  std::vector<double> rootFrames, rootVelocities;
   /// Per-point scalars, one value per point, named as in the header's pointData.
   std::map<std::string, std::vector<double>> pointData;
   /// Energy terms by name (J). The names kinetic, elastic, gravitational, dissipated and
   /// external_work are always written (0 when absent); any other term is written too.
   std::map<std::string, double> energy;
 };
+
+inline constexpr int RootFrameValues = 12;
+inline constexpr int RootVelocityValues = 6;
 
 /// The energy terms every state file has.
 extern const char* const RequiredEnergyTerms[5];

@@ -152,6 +152,27 @@ void readStrandParameters(hid_t f, StateHeader& header)
   }
 }
 
+/// Per-strand vectors: every dataset of /strands shaped [S, 3].
+void readStrandVectors(hid_t f, StateHeader& header)
+{
+  Handle strands(H5Gopen2(f, sf::Strands, H5P_DEFAULT));
+  std::vector<std::string> names;
+  linkNames(strands.get(), names);
+  for (const std::string& name : names)
+  {
+    Handle d(H5Dopen2(strands.get(), name.c_str(), H5P_DEFAULT));
+    const auto dims = extent(d.get());
+    if (dims.size() == 2 && dims[0] == header.numberOfStrands() && dims[1] == 3)
+    {
+      std::vector<Eigen::Vector3d> v(dims[0]);
+      if (readWhole(d.get(), H5T_NATIVE_DOUBLE, v.data()))
+      {
+        header.strandVectors[name] = std::move(v);
+      }
+    }
+  }
+}
+
 /// Everything of the header but the per-point scalars, which need the number of frames.
 Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
 {
@@ -169,6 +190,7 @@ Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
     return s;
   }
   readStrandParameters(f, header);
+  readStrandVectors(f, header);
   return Status::Ok();
 }
 
@@ -219,6 +241,25 @@ void findPointData(hid_t f, std::int64_t frames, StateHeader& header)
       header.pointData.push_back(name);
     }
   }
+}
+
+/// The optional root datasets: used when both are there, shaped [T', S, 12] and [T', S, 6]
+/// with T' ≥ `frames`; a file without them (or with others) reads without them.
+void findRootFrames(hid_t f, std::int64_t frames, StateHeader& header)
+{
+  auto shaped = [&](const char* path, hsize_t values)
+  {
+    if (H5Lexists(f, path, H5P_DEFAULT) <= 0)
+    {
+      return false;
+    }
+    Handle d(H5Dopen2(f, path, H5P_DEFAULT));
+    const auto dims = extent(d.get());
+    return dims.size() == 3 && std::int64_t(dims[0]) >= frames &&
+           dims[1] == header.numberOfStrands() && dims[2] == values;
+  };
+  header.rootFrames =
+      shaped(sf::RootFrames, RootFrameValues) && shaped(sf::RootVelocities, RootVelocityValues);
 }
 
 /// Every dataset of /energy, each of at least `frames` values.
@@ -280,6 +321,7 @@ Status readFile(const std::string& path, Contents& c)
     return s;
   }
   findPointData(f, c.Frames, c.Header);
+  findRootFrames(f, c.Frames, c.Header);
   return readEnergies(f, c.Frames, c.Energies);
 }
 } // namespace
@@ -378,6 +420,13 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
       Handle q(H5Dopen2(f, sf::Q, H5P_DEFAULT)), qd(H5Dopen2(f, sf::QDot, H5P_DEFAULT));
       ok = q.valid() && qd.valid() && readSlab(q.get(), hsize_t(index), out.q) &&
            readSlab(qd.get(), hsize_t(index), out.qdot);
+    }
+    if (ok && P->Header.rootFrames)
+    {
+      Handle r(H5Dopen2(f, sf::RootFrames, H5P_DEFAULT));
+      Handle v(H5Dopen2(f, sf::RootVelocities, H5P_DEFAULT));
+      ok = r.valid() && v.valid() && readSlab(r.get(), hsize_t(index), out.rootFrames) &&
+           readSlab(v.get(), hsize_t(index), out.rootVelocities);
     }
     for (const std::string& name : P->Header.pointData)
     {

@@ -63,7 +63,34 @@ Status writeRootAttributes(hid_t f, const StateHeader& header)
   return s;
 }
 
-/// /strands: the offsets, then one dataset per strand parameter.
+/// One dataset [S, 3] of /strands per strand vector.
+Status writeStrandVectors(hid_t strands, const StateHeader& header)
+{
+  for (const auto& [name, values] : header.strandVectors)
+  {
+    if (!writeRows(strands, name.c_str(), values.size(), 3,
+                   values.empty() ? nullptr : values[0].data()))
+    {
+      return Status::Error("cannot write " + sf::inGroup(sf::Strands, name) + ".");
+    }
+  }
+  return Status::Ok();
+}
+
+/// The growing root datasets of /frames, when the header asks for them.
+bool createRootFrames(hid_t frames, const StateHeader& header, Handle& poses, Handle& rates)
+{
+  if (!header.rootFrames)
+  {
+    return true;
+  }
+  const hsize_t strands = header.numberOfStrands();
+  poses = createGrowing(frames, sf::RootFrames, {strands, hsize_t(RootFrameValues)});
+  rates = createGrowing(frames, sf::RootVelocities, {strands, hsize_t(RootVelocityValues)});
+  return poses.valid() && rates.valid();
+}
+
+/// /strands: the offsets, then one dataset per strand parameter and per strand vector.
 Status writeStrands(hid_t strands, const StateHeader& header)
 {
   if (!writeArray(strands, sf::Offsets, H5T_NATIVE_INT64, header.offsets.size(),
@@ -78,7 +105,7 @@ Status writeStrands(hid_t strands, const StateHeader& header)
       return Status::Error("cannot write " + sf::inGroup(sf::Strands, name) + ".");
     }
   }
-  return Status::Ok();
+  return writeStrandVectors(strands, header);
 }
 
 /// One growing dataset of /frames per per-point scalar.
@@ -127,7 +154,7 @@ Status createEnergy(hid_t energy, const std::vector<std::string>& extraTerms,
 
 struct StateFileWriter::Impl
 {
-  Handle File, Time, Positions, Velocities, Q, QDot;
+  Handle File, Time, Positions, Velocities, Q, QDot, RootFrames, RootVelocities;
   std::map<std::string, Handle> PointData;
   std::map<std::string, Handle> Energy;
   StateHeader Header;
@@ -191,6 +218,10 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
     P->Q = createGrowing(frames.get(), sf::Q, {strandCount, c});
     P->QDot = createGrowing(frames.get(), sf::QDot, {strandCount, c});
   }
+  if (!createRootFrames(frames.get(), header, P->RootFrames, P->RootVelocities))
+  {
+    return fail("cannot create the root datasets.");
+  }
   if (Status s = createPointData(frames.get(), header, P->PointData); !s)
   {
     return fail(s.message());
@@ -241,6 +272,13 @@ Status StateFileWriter::append(const StateFrame& frame)
   {
     return Status::Error(where + "expected " + std::to_string(nq) + " values of q and qdot.");
   }
+  const std::size_t roots = h.rootFrames ? h.numberOfStrands() : 0;
+  if (frame.rootFrames.size() != roots * RootFrameValues ||
+      frame.rootVelocities.size() != roots * RootVelocityValues)
+  {
+    return Status::Error(where + "expected " + std::to_string(roots) +
+                         " root frames and velocities.");
+  }
   auto flat = [](const std::vector<Eigen::Vector3d>& v)
   {
     std::vector<double> out(3 * v.size());
@@ -254,7 +292,7 @@ Status StateFileWriter::append(const StateFrame& frame)
   };
   const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
   if (!std::isfinite(frame.time) || !finite(pos) || !finite(vel) || !finite(frame.q) ||
-      !finite(frame.qdot))
+      !finite(frame.qdot) || !finite(frame.rootFrames) || !finite(frame.rootVelocities))
   {
     return Status::Error(
         where + "NaN or infinite values: the frame is not written, the frames before it are kept.");
@@ -288,6 +326,11 @@ Status StateFileWriter::append(const StateFrame& frame)
     {
       ok = appendSlab(P->Q.get(), t, frame.q.data()) &&
            appendSlab(P->QDot.get(), t, frame.qdot.data());
+    }
+    if (ok && h.rootFrames)
+    {
+      ok = appendSlab(P->RootFrames.get(), t, frame.rootFrames.data()) &&
+           appendSlab(P->RootVelocities.get(), t, frame.rootVelocities.data());
     }
     for (auto& [name, dataset] : P->PointData)
     {
@@ -331,6 +374,8 @@ Status StateFileWriter::close()
   P->Velocities.reset();
   P->Q.reset();
   P->QDot.reset();
+  P->RootFrames.reset();
+  P->RootVelocities.reset();
   P->File.reset();
   P->Frames = 0;
   return Status::Ok();

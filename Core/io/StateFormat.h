@@ -22,16 +22,21 @@ inline constexpr const char* RootAttributes[] = {FormatAttribute, VersionAttribu
 // Groups and datasets, by absolute path. T counts frames (/frames and /energy may hold one
 // more than /time), P points, S strands, C coordinates per strand.
 inline constexpr char Time[] = "/time"; ///< [T]; its length is the number of whole frames
-/// offsets, then one dataset [S] per strand parameter.
+/// offsets, then one dataset [S] per strand parameter and one [S, 3] per strand vector.
 inline constexpr char Strands[] = "/strands";
 inline constexpr char Offsets[] = "/strands/offsets"; ///< int64 [S+1]
-/// The four datasets below, then one dataset [T, P] per per-point scalar.
+/// The datasets below, then one dataset [T, P] per per-point scalar.
 inline constexpr char Frames[] = "/frames";
 inline constexpr char Positions[] = "/frames/positions";   ///< [T, P, 3]
 inline constexpr char Velocities[] = "/frames/velocities"; ///< [T, P, 3]
 inline constexpr char Q[] = "/frames/q";                   ///< [T, S, C], absent when C = 0
 inline constexpr char QDot[] = "/frames/qdot";             ///< [T, S, C], absent when C = 0
-inline constexpr const char* FrameDatasets[] = {Positions, Velocities, Q, QDot};
+/// [T, S, RootFrameValues] and [T, S, RootVelocityValues] (StateFile.h), optional: each
+/// strand's root pose and rates.
+inline constexpr char RootFrames[] = "/frames/root_frames";
+inline constexpr char RootVelocities[] = "/frames/root_velocities";
+inline constexpr const char* FrameDatasets[] = {Positions, Velocities, Q,
+                                                QDot,      RootFrames, RootVelocities};
 /// One dataset [T] per energy term; RequiredEnergyTerms (StateFile.h) are always there.
 inline constexpr char Energy[] = "/energy";
 

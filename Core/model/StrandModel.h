@@ -47,7 +47,10 @@ public:
   /// and its own run attributes (added to those the frame loop writes).
   virtual void describe(StateHeader& header) const = 0;
   /// The current state into `frame`: positions and velocities of every point, the point
-  /// scalars "curvature" (1/m) and "twist" (1/m), q and q̇ (frame.time is set by the caller).
+  /// scalars "curvature" (1/m) and "twist" (1/m), q and q̇, and each strand's root pose and
+  /// rates (appendRoot, model/StrandPoints.h: the orientation's columns the material frame
+  /// at the root, tangent first), from which simulation/GuideDrawing.cxx draws the strand
+  /// again (frame.time is set by the caller).
   virtual void writeFrame(StateFrame& frame) const = 0;
   /// The energy budget now (works and dissipations since t = 0).
   virtual EnergyBudget energy() const = 0;

@@ -1,5 +1,7 @@
 #include "projective/ProjectiveModel.h"
 
+#include "model/StrandPoints.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -82,6 +84,10 @@ void ProjectiveModel::writeFrame(StateFrame& f) const
   f.velocities.clear();
   f.q.clear();
   f.qdot.clear();
+  f.rootFrames.clear();
+  f.rootVelocities.clear();
+  // The roots' rates: the head's velocity field at the model's time (the roots move with it).
+  const RigidRates rates = Strands.scene().rootMotion.rates(Strands.time());
   std::vector<double>& curvature = f.pointData["curvature"];
   std::vector<double>& twist = f.pointData["twist"];
   curvature.clear();
@@ -106,6 +112,12 @@ void ProjectiveModel::writeFrame(StateFrame& f) const
       curvature.push_back(kappa);
       twist.push_back(0.0);
     }
+    RootState root;
+    root.position = nodes.front();
+    root.orientation = materialFrame(Strands.rootFrame(s));
+    root.velocity = rates.velocityAt(root.position);
+    root.angularVelocity = rates.angularVelocity;
+    appendRoot(root, f.rootFrames, f.rootVelocities);
     for (std::size_t k = 0; k < Strands.angles(s).size(); ++k)
     {
       f.q.push_back(Strands.angles(s)[k].x());

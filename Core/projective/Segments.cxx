@@ -28,6 +28,36 @@ Eigen::Matrix3d segmentRotation(double theta, double phi)
   return a;
 }
 
+void nodeFrames(const Eigen::Matrix3d& rootFrame, const double* angles, int segments,
+                std::vector<Eigen::Vector3d>& tangents, std::vector<Eigen::Vector3d>& directors)
+{
+  tangents.clear();
+  directors.clear();
+  Eigen::Matrix3d r = rootFrame;
+  tangents.push_back(r.col(2));
+  directors.push_back(r.col(0));
+  for (int i = 0; i < segments; ++i)
+  {
+    r = r * segmentRotation(angles[2 * i], angles[2 * i + 1]);
+    tangents.push_back(r.col(2));
+    directors.push_back(r.col(0));
+  }
+}
+
+Eigen::Matrix3d materialFrame(const Eigen::Matrix3d& segmentFrame)
+{
+  Eigen::Matrix3d m;
+  m << segmentFrame.col(2), segmentFrame.col(0), segmentFrame.col(1);
+  return m;
+}
+
+Eigen::Matrix3d segmentFrame(const Eigen::Matrix3d& materialFrame)
+{
+  Eigen::Matrix3d r;
+  r << materialFrame.col(1), materialFrame.col(2), materialFrame.col(0);
+  return r;
+}
+
 Status strandFromPolyline(const std::vector<Eigen::Vector3d>& points,
                           const Eigen::Vector3d& rootSide, ProjectiveStrand& strand)
 {

@@ -50,6 +50,20 @@ Eigen::Vector3d segmentDirection(double theta, double phi);
 /// The rotation that takes the parent's frame to the child's: A = Rx(−φ) Ry(π/2 − θ).
 Eigen::Matrix3d segmentRotation(double theta, double phi);
 
+/// The material frame at each node of a strand whose root frame is `rootFrame` (columns
+/// e1, e2, e3) and whose k segments have the angles (θ_i, φ_i), angles[2i] and
+/// angles[2i + 1]: each segment's frame is its parent's times segmentRotation, as the model
+/// chains them. Node 0 carries the root frame (the scalp's, which the head carries; the
+/// first segment hinges on it), node i ≥ 1 the frame of segment i, the segment that ends at
+/// it: tangent e3 (the segment's direction), first director e1. k + 1 values each;
+/// overwritten.
+void nodeFrames(const Eigen::Matrix3d& rootFrame, const double* angles, int segments,
+                std::vector<Eigen::Vector3d>& tangents, std::vector<Eigen::Vector3d>& directors);
+/// The material frame (tangent, first director, second director) of a frame (e1, e2, e3),
+/// and back: (e3, e1, e2) and (n1, n2, n0).
+Eigen::Matrix3d materialFrame(const Eigen::Matrix3d& segmentFrame);
+Eigen::Matrix3d segmentFrame(const Eigen::Matrix3d& materialFrame);
+
 /// Builds a strand from a polyline of equal segments (relative spread ≤ 1e-6, refused
 /// otherwise): rest angles from the polyline, root frame with e3 along the first segment
 /// and e1 as close as possible to `rootSide` (any vector not parallel to the first segment).

@@ -30,7 +30,8 @@ double FrameStore::bytesOf(const StateFrame& f)
 {
   double bytes = sizeof(StateFrame) +
                  sizeof(Eigen::Vector3d) * double(f.positions.size() + f.velocities.size()) +
-                 sizeof(double) * double(f.q.size() + f.qdot.size());
+                 sizeof(double) * double(f.q.size() + f.qdot.size() + f.rootFrames.size() +
+                                         f.rootVelocities.size());
   for (const auto& [name, values] : f.pointData)
   {
     bytes += name.size() + sizeof(double) * double(values.size());
@@ -157,6 +158,8 @@ void FrameStore::release(int index)
   std::vector<Eigen::Vector3d>().swap(f.velocities);
   std::vector<double>().swap(f.q);
   std::vector<double>().swap(f.qdot);
+  std::vector<double>().swap(f.rootFrames);
+  std::vector<double>().swap(f.rootVelocities);
   f.pointData.clear();
 }
 

@@ -70,6 +70,15 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
       values.push_back(p.get(g));
     }
   }
+  for (const StrandVector& v : strandVectors())
+  {
+    std::vector<Eigen::Vector3d>& values = Header.strandVectors[v.file];
+    for (const GuideStrand& g : strands)
+    {
+      values.push_back(v.get(g));
+    }
+  }
+  Header.rootFrames = true; // every model's writeFrame gives them (model/StrandModel.h)
   Header.pointData = {"curvature", "twist", "contact_depth"};
   auto& at = Header.attributes;
   at["time_step"] = Options.timeStep;

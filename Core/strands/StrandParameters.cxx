@@ -56,4 +56,18 @@ const std::array<StrandParameter, 13>& strandParameters()
   return table;
 }
 
+const std::array<StrandVector, 3>& strandVectors()
+{
+  static const std::array<StrandVector, 3> table = {{
+      {"RestRoot", "rest_root", "m", false, [](const GuideStrand& g) { return g.root; },
+       [](GuideStrand& g, const Eigen::Vector3d& v) { g.root = v; }},
+      {"RootNormal", "root_normal", "1", true, [](const GuideStrand& g) { return g.normal; },
+       [](GuideStrand& g, const Eigen::Vector3d& v) { g.normal = v; }},
+      {"GrowthDirection", "growth_direction", "1", true,
+       [](const GuideStrand& g) { return g.growth; },
+       [](GuideStrand& g, const Eigen::Vector3d& v) { g.growth = v; }},
+  }};
+  return table;
+}
+
 } // namespace hair

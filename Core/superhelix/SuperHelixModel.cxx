@@ -1,6 +1,7 @@
 #include "superhelix/SuperHelixModel.h"
 
 #include "common/Parallel.h"
+#include "superhelix/Centerline.h"
 
 #include <algorithm>
 #include <cmath>
@@ -191,6 +192,7 @@ void SuperHelixModel::describe(StateHeader& header) const
     header.offsets.push_back(first);
   }
   auto& at = header.attributes;
+  at["points_per_element"] = Options.pointsPerElement;
   at["quadrature_tolerance"] = Options.quadratureTolerance;
   const BodyContactParameters& c = Options.contacts;
   at["contacts"] = c.enabled ? 1 : 0;
@@ -216,9 +218,10 @@ void SuperHelixModel::describe(StateHeader& header) const
 
 void SuperHelixModel::writeFrame(StateFrame& f) const
 {
-  // Display points, their velocities, curvature and twist, strand by strand on the run's
-  // threads into pre-sized arrays (each point is computed alone: the same values on any
-  // number of threads).
+  // Display points, their velocities, curvature and twist, drawn from q, q̇ and the root as
+  // a state file's frame is drawn again (drawSuperHelix), strand by strand on the run's
+  // threads into pre-sized arrays (each strand alone: the same values on any number of
+  // threads).
   const int per = Options.pointsPerElement;
   std::vector<std::size_t> first(Helices.size() + 1, 0);
   std::size_t qSize = 0;
@@ -234,34 +237,37 @@ void SuperHelixModel::writeFrame(StateFrame& f) const
   std::vector<double>& twist = f.pointData["twist"];
   curvature.resize(points);
   twist.resize(points);
-  parallelBlocks(static_cast<std::int64_t>(Helices.size()), 16, Run.threads,
-                 [&](std::int64_t begin, std::int64_t end)
-                 {
-                   for (std::int64_t k = begin; k < end; ++k)
-                   {
-                     const SuperHelix& h = Helices[k];
-                     const int n = h.elementCount() * per;
-                     for (int i = 0; i <= n; ++i)
-                     {
-                       const std::size_t j = first[k] + i;
-                       h.positionAndVelocity(h.length() * i / n, f.positions[j], f.velocities[j]);
-                       // Curvature |κ| and twist τ of the element the point lies on
-                       // (q = (τ, κ1, κ2) per element).
-                       const int e = std::min(i / per, h.elementCount() - 1);
-                       const Eigen::Vector3d q = h.q().segment<3>(3 * e);
-                       curvature[j] = std::hypot(q.y(), q.z());
-                       twist[j] = q.x();
-                     }
-                   }
-                 });
+  std::vector<RootState> roots(Helices.size());
+  parallelBlocks(
+      static_cast<std::int64_t>(Helices.size()), 16, Run.threads,
+      [&](std::int64_t begin, std::int64_t end)
+      {
+        StrandPoints drawn;
+        for (std::int64_t k = begin; k < end; ++k)
+        {
+          const SuperHelix& h = Helices[k];
+          roots[k] = h.rootState(h.time());
+          drawSuperHelix(h.spec().elementLengths, h.q().data(), h.qdot().data(), roots[k], per,
+                         drawn);
+          std::copy(drawn.positions.begin(), drawn.positions.end(), f.positions.begin() + first[k]);
+          std::copy(drawn.velocities.begin(), drawn.velocities.end(),
+                    f.velocities.begin() + first[k]);
+          std::copy(drawn.curvature.begin(), drawn.curvature.end(), curvature.begin() + first[k]);
+          std::copy(drawn.twist.begin(), drawn.twist.end(), twist.begin() + first[k]);
+        }
+      });
   f.q.clear();
   f.qdot.clear();
+  f.rootFrames.clear();
+  f.rootVelocities.clear();
   f.q.reserve(qSize);
   f.qdot.reserve(qSize);
-  for (const SuperHelix& h : Helices)
+  for (std::size_t k = 0; k < Helices.size(); ++k)
   {
+    const SuperHelix& h = Helices[k];
     f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
     f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
+    appendRoot(roots[k], f.rootFrames, f.rootVelocities);
   }
 }
 

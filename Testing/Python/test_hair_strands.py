@@ -32,7 +32,7 @@ for name, value in expect.items():
     a = cd.GetArray(name)
     check(a is not None and abs(a.GetValue(0) - value) <= 1e-12 * value, f"{name} = {value} (wavy preset)")
 for name in ("StrandId", "NumberOfElements", "HairType", "Length", "InternalFriction", "AirFriction",
-             "RootNormal", "GrowthDirection", "Seed"):
+             "RestRoot", "RootNormal", "GrowthDirection", "Seed"):
     check(cd.GetArray(name) is not None, f"cell array {name}")
 
 first = out.GetPoint(0)
