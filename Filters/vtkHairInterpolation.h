@@ -74,7 +74,7 @@ protected:
   int PointsPerStrand = 32;
   bool ClumpingFromHairType = true;
   double ClumpRange[2] = {0.5, 0.8};
-  double ClumpRadius = 0.004;
+  double ClumpRadius = 0.01;
   double TipDistance = 0.04;
   double Variation = 0.1;
   int Seed = 1;

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The main job: installs, builds, and runs the demo on the bundled data; results in Output/:
 # collision tables of the bundled body, then 200 guides simulated with both models under a
-# head shake, stored in HDF5, with pictures, an energy plot and a ParaView state.
+# head shake, stored in HDF5, with pictures, an energy plot and a ParaView state; then a
+# full head of rendered hair from the guides.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 OUT="${HAIR_OUTPUT_DIR:-$ROOT/Output}"
 # Debian's ParaView renders only through X: xvfb-run gives it a display.
 xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo.py" "$PLUGIN" "$OUT"
 xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_simulation.py" "$PLUGIN" "$OUT"
+xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_hair.py" "$PLUGIN" "$OUT"

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
 #include <unordered_map>
 
 namespace hair
@@ -150,8 +151,9 @@ Status InterpolationOptions::validate() const
 {
   auto bad = [](const std::string& what, double value, const std::string& want)
   {
-    return Status::Error("Hair interpolation: " + what + " is " + std::to_string(value) +
-                         "; give " + want + ".");
+    std::ostringstream shown;
+    shown << value;
+    return Status::Error(what + " is " + shown.str() + "; give " + want + ".");
   };
   if (strands < 1 || strands > 10000000)
     return bad("the number of rendered strands", strands, "1 … 10 000 000");
@@ -195,7 +197,7 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const Tri
   if (Status s = options.validate(); !s)
     return s;
   if (guides.empty())
-    return Status::Error("Hair interpolation: there are no guides to interpolate.");
+    return Status::Error("there are no guides to interpolate.");
   for (std::size_t k = 0; k < guides.size(); ++k)
     if (Status s = guides[k].validate("guide " + std::to_string(k)); !s)
       return s;
@@ -222,7 +224,7 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const Tri
     any = any || region[t];
   }
   if (!any)
-    return Status::Error("Hair interpolation: no part of the scalp surface lies near the guides' "
+    return Status::Error("no part of the scalp surface lies near the guides' "
                          "roots (within 1.5 × their spacing of " +
                          std::to_string(spacing) + " m): give the surface the guides grew on.");
   std::vector<Root> samples;
@@ -244,12 +246,12 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
   if (Status s = options.validate(); !s)
     return s;
   if (guides.empty())
-    return Status::Error("Hair interpolation: there are no guides to interpolate.");
+    return Status::Error("there are no guides to interpolate.");
   if (rendered.empty())
-    return Status::Error("Hair interpolation: there are no rendered roots.");
+    return Status::Error("there are no rendered roots.");
   for (const Eigen::Vector3d& x : rendered)
     if (!x.allFinite())
-      return Status::Error("Hair interpolation: a rendered root is not finite.");
+      return Status::Error("a rendered root is not finite.");
   std::vector<Eigen::Vector3d> roots(guides.size());
   std::vector<Eigen::Matrix3d> frames(guides.size());
   for (std::size_t k = 0; k < guides.size(); ++k)
@@ -341,33 +343,31 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
                                    RenderedHair& out, const Progress& progress) const
 {
   if (!isBound())
-    return Status::Error("Hair interpolation: bind the rendered strands to guides first.");
+    return Status::Error("bind the rendered strands to guides first.");
   const std::size_t G = guides.size();
   if (G != RestRoots.size())
-    return Status::Error("Hair interpolation: the rendered hair was bound to " +
-                         std::to_string(RestRoots.size()) + " guides, and " + std::to_string(G) +
+    return Status::Error("the rendered hair was bound to " + std::to_string(RestRoots.size()) +
+                         " guides, and " + std::to_string(G) +
                          " are given: bind again to these guides.");
   if (guides.offsets.front() != 0 || guides.offsets.back() != guides.points.size())
-    return Status::Error("Hair interpolation: the guides' offsets do not cover their points.");
+    return Status::Error("the guides' offsets do not cover their points.");
   for (std::size_t g = 0; g < G; ++g)
     if (guides.offsets[g + 1] < guides.offsets[g] + 2)
-      return Status::Error("Hair interpolation: guide " + std::to_string(g) +
-                           " has fewer than 2 points.");
+      return Status::Error("guide " + std::to_string(g) + " has fewer than 2 points.");
   const std::size_t P = guides.points.size();
   if (!guides.tangents.empty() && guides.tangents.size() != P)
-    return Status::Error("Hair interpolation: the guides have " + std::to_string(P) +
-                         " points and " + std::to_string(guides.tangents.size()) + " tangents.");
+    return Status::Error("the guides have " + std::to_string(P) + " points and " +
+                         std::to_string(guides.tangents.size()) + " tangents.");
   if (!guides.directors.empty() && guides.directors.size() != P)
-    return Status::Error("Hair interpolation: the guides have " + std::to_string(P) +
-                         " points and " + std::to_string(guides.directors.size()) + " directors.");
+    return Status::Error("the guides have " + std::to_string(P) + " points and " +
+                         std::to_string(guides.directors.size()) + " directors.");
   for (const auto& [name, values] : guides.scalars)
     if (values.size() != P)
-      return Status::Error("Hair interpolation: the guides' array " + name + " has " +
-                           std::to_string(values.size()) + " values for " + std::to_string(P) +
-                           " points.");
+      return Status::Error("the guides' array " + name + " has " + std::to_string(values.size()) +
+                           " values for " + std::to_string(P) + " points.");
   for (const Eigen::Vector3d& x : guides.points)
     if (!x.allFinite())
-      return Status::Error("Hair interpolation: a guide point is not finite (NaN or infinite).");
+      return Status::Error("a guide point is not finite (NaN or infinite).");
 
   const int n = Options.pointsPerStrand;
   const int M = 2 * (n - 1) + 1; // samples per guide
@@ -575,7 +575,7 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
           }
         });
     if (progress && !progress(double(last) / strands))
-      return Status::Error("Hair interpolation: aborted.");
+      return Status::Error("aborted.");
   }
   for (std::size_t i = 0; i < pushed.size(); ++i)
   {

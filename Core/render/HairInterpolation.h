@@ -37,7 +37,7 @@ struct InterpolationOptions
   /// root; negative: from the guides' hair type (clumpProfile()).
   double clumpStart = -1;
   double clumpEnd = -1;
-  double clumpRadius = 0.004; ///< m: the largest distance of a rendered tip from its clump's guide
+  double clumpRadius = 0.01; ///< m: the largest distance of a rendered tip from its clump's guide
   /// m: a guide whose tip is farther than this from the clump guide's tip stops weighing
   /// in, fading out between 1× and 2× (no popping).
   double tipDistance = 0.04;
@@ -82,9 +82,9 @@ struct RenderedHair
   std::vector<float> parameter; ///< 0 at the root … 1 at the tip of its strand
   std::vector<int> guide;       ///< per strand: the guide it clumps to (or copies)
   std::map<std::string, std::vector<float>> scalars;
-  long pushedOut = 0;   ///< points that were inside a body part and were pushed out
-  double deepest = 0;   ///< m: the deepest of them before the push-out
-  long stillInside = 0; ///< points inside a part after the push-out
+  long pushedOut = 0;      ///< points that were inside a body part and were pushed out
+  double deepest = 0;      ///< m: the deepest of them before the push-out
+  long stillInside = 0;    ///< points inside a part after the push-out
   double deepestAfter = 0; ///< m: the deepest of those
   std::size_t strandCount() const { return guide.size(); }
 };

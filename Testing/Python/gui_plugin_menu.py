@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """The plugin in the ParaView GUI, under Xvfb: ParaView starts with the plugin on
 PV_PLUGIN_PATH, its proxies are registered (checked from the GUI's own Python with
---script), and a screenshot of Filters > Hair is left in the test output.
+--script), and a screenshot of Filters > Hair is left in the test output; then the same
+script builds a full head of rendered hair in the GUI (body, guides, a second of the shake,
+Hair Interpolation) and a screenshot of the window is left too (gui_rendered_head.png).
 
 Usage: gui_plugin_menu.py <HairDynamics.so> <output folder>
 """
@@ -21,15 +23,42 @@ for tool in ("Xvfb", "paraview", "xdotool", "import"):
 
 tmp = tempfile.mkdtemp()
 marker = os.path.join(tmp, "proxies.txt")
+rendered = os.path.join(tmp, "rendered.txt")
+body_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "body.vtk")
 check = os.path.join(tmp, "check.py")
 with open(check, "w") as f:
     f.write(f"""
 from paraview import servermanager
 pxm = servermanager.ProxyManager()
 found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filters", "HairStrands"),
-         ("filters", "HairSimulation"), ("filters", "HairAnalysis"), ("sources", "HairStateReader"))
+         ("filters", "HairSimulation"), ("filters", "HairAnalysis"), ("sources", "HairStateReader"),
+         ("filters", "HairInterpolation"))
          if pxm.GetPrototypeProxy(group, name) is not None]
 open({marker!r}, "w").write(" ".join(found))
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, HairInterpolation,
+                             HairSimulation, HairStrands, LegacyVTKReader, Render, Show)
+body = LegacyVTKReader(registrationName="body", FileNames=[{os.path.abspath(body_file)!r}])
+guides = HairStrands(registrationName="guides", Input=body, NumberOfStrands=200, StrandLength=0.3,
+                     HairType="Wavy (Caucasian 1)", Growth="Combed", CombDirection=[0, -1, -0.3],
+                     CombWeight=0.35)
+sim = HairSimulation(registrationName="simulation", Input=guides, Duration=1.0,
+                     BodyMotion="Shake", MotionAmplitude=0.5)
+hair = HairInterpolation(registrationName="rendered hair", Input=sim, Scalp=body, NumberOfStrands=30000)
+view = GetActiveViewOrCreate("RenderView")
+skin = Show(body, view)
+skin.DiffuseColor = [0.87, 0.76, 0.68]
+shown = Show(hair, view)
+ColorBy(shown, ("POINTS", "ArcParameter"))
+scene = GetAnimationScene()
+scene.UpdateAnimationUsingDataTimeSteps()
+scene.AnimationTime = 1.0
+Render(view)
+view.CameraPosition = [0.75, 1.75, -0.75]
+view.CameraFocalPoint = [0.0, 1.45, 0.0]
+view.CameraViewUp = [0, 1, 0]
+Render(view)
+data = hair.GetClientSideObject().GetOutputDataObject(0)
+open({rendered!r}, "w").write(str(data.GetNumberOfLines()))
 """)
 
 # Xvfb picks a free display itself and writes its number to a pipe when it is ready to take
@@ -70,7 +99,7 @@ try:
         time.sleep(1)
     found = open(marker).read().split() if os.path.exists(marker) else []
     for name in ("CylindricalCollisionMap", "HairStrands", "HairSimulation", "HairAnalysis",
-                 "HairStateReader"):
+                 "HairStateReader", "HairInterpolation"):
         if name not in found:
             failures.append(f"proxy {name} is not registered in the GUI")
     # Filters > Hair: open the Filters menu, then hover its Hair entry (positions of this
@@ -84,6 +113,17 @@ try:
     subprocess.run(["import", "-window", "root", shot], env=env)
     if not os.path.exists(shot):
         failures.append("no screenshot")
+    # Close the menus, wait for the rendered head, and take the window as it is.
+    subprocess.run(["xdotool", "key", "Escape", "key", "Escape"], env=env)
+    deadline = time.time() + 180
+    while time.time() < deadline and not os.path.exists(rendered):
+        time.sleep(1)
+    lines = open(rendered).read().strip() if os.path.exists(rendered) else ""
+    if lines != "30000":
+        failures.append(f"the GUI's Hair Interpolation gave {lines or 'nothing'} instead of 30000 strands")
+    time.sleep(3)
+    head_shot = os.path.join(out, "gui_rendered_head.png")
+    subprocess.run(["import", "-window", "root", head_shot], env=env)
 finally:
     gui.kill()
     gui.wait()
@@ -100,6 +140,6 @@ if errors:
     failures.append("ParaView reported errors about the plugin: " + errors[0].strip())
 for f in failures:
     print("FAIL " + f)
-print(f"screenshot: {os.path.join(out, 'gui_filters_hair.png')}")
-print(f"{5 - len([f for f in failures if 'proxy' in f])} of 5 proxies registered in the GUI")
+print(f"screenshots: {os.path.join(out, 'gui_filters_hair.png')}, {os.path.join(out, 'gui_rendered_head.png')}")
+print(f"{6 - len([f for f in failures if 'proxy' in f])} of 6 proxies registered in the GUI")
 sys.exit(1 if failures else 0)
