@@ -107,20 +107,6 @@ struct Resampled
   std::vector<double> scalars;        ///< samples × scalar count
 };
 
-Eigen::Matrix3d orthonormalFrame(const Eigen::Vector3d& tangent, const Eigen::Vector3d& director)
-{
-  const Eigen::Vector3d t = tangent.normalized();
-  Eigen::Vector3d d = director - director.dot(t) * t;
-  if (d.squaredNorm() < 1e-24)
-    d = t.unitOrthogonal();
-  d.normalize();
-  Eigen::Matrix3d f;
-  f.col(0) = t;
-  f.col(1) = d;
-  f.col(2) = t.cross(d);
-  return f;
-}
-
 /// The guides' typical spacing: the median distance of a root to its nearest other root.
 double guideSpacing(const std::vector<Eigen::Vector3d>& roots)
 {

@@ -26,11 +26,11 @@ Status GuideStrand::validate(const std::string& what) const
   return Status::Ok();
 }
 
-Eigen::Matrix3d GuideStrand::rootFrame() const
+Eigen::Matrix3d orthonormalFrame(const Eigen::Vector3d& first, const Eigen::Vector3d& second)
 {
-  const Eigen::Vector3d n0 = growth.normalized();
-  Eigen::Vector3d n1 = normal - normal.dot(n0) * n0;
-  if (n1.norm() < 1e-6)
+  const Eigen::Vector3d n0 = first.normalized();
+  Eigen::Vector3d n1 = second - second.dot(n0) * n0;
+  if (n1.norm() < 1e-6 * second.norm() || n1.norm() == 0)
   {
     n1 = n0.unitOrthogonal();
   }
@@ -40,6 +40,11 @@ Eigen::Matrix3d GuideStrand::rootFrame() const
   f.col(1) = n1;
   f.col(2) = n0.cross(n1);
   return f;
+}
+
+Eigen::Matrix3d GuideStrand::rootFrame() const
+{
+  return orthonormalFrame(growth, normal);
 }
 
 } // namespace hair

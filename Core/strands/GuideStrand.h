@@ -31,4 +31,8 @@ struct GuideStrand
   Eigen::Matrix3d rootFrame() const;
 };
 
+/// Columns n0 along `first`, n1 as close to `second` as possible made perpendicular to n0
+/// (any perpendicular when they are parallel), n2 = n0 × n1.
+Eigen::Matrix3d orthonormalFrame(const Eigen::Vector3d& first, const Eigen::Vector3d& second);
+
 } // namespace hair
