@@ -137,6 +137,8 @@ private:
   std::vector<Binding> Roots;
   std::vector<Eigen::Matrix3d> RestFrames;
   std::vector<Eigen::Vector3d> RestRoots;
+  std::vector<double>
+      Periods; ///< m: arc length of one turn of each guide's natural helix (0: straight)
   double ClumpStart = 0, ClumpEnd = 1;
 };
 
