@@ -105,6 +105,22 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
     return 0;
   }
 
+  // Every property checked before any work (hair::GrowthOptions::validate, the same ranges
+  // as the XML's domains).
+  hair::GrowthOptions grow;
+  grow.length = this->StrandLength;
+  grow.elements = this->NumberOfElements;
+  grow.combed = this->Growth == COMB;
+  grow.combDirection = Eigen::Vector3d(this->CombDirection);
+  grow.combWeight = this->CombWeight;
+  grow.hair = params;
+  grow.seed = static_cast<std::uint32_t>(this->Seed);
+  if (hair::Status s = grow.validate(); !s)
+  {
+    vtkErrorMacro(<< "Hair Strands: " << s.message());
+    return 0;
+  }
+
   // Roots: one per input point (a point set with normals), or spread over the surface.
   std::vector<hair::Root> roots;
   if (input && input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0 &&
@@ -196,14 +212,6 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
   }
 
   // Straight strands along the growth direction.
-  hair::GrowthOptions grow;
-  grow.length = this->StrandLength;
-  grow.elements = this->NumberOfElements;
-  grow.combed = this->Growth == COMB;
-  grow.combDirection = Eigen::Vector3d(this->CombDirection);
-  grow.combWeight = this->CombWeight;
-  grow.hair = params;
-  grow.seed = static_cast<std::uint32_t>(this->Seed);
   std::vector<hair::GuideStrand> guides;
   if (hair::Status s = hair::growGuides(roots, grow, guides); !s)
   {

@@ -47,11 +47,11 @@ public:
     CUSTOM = 4
   };
 
-  vtkSetClampMacro(NumberOfStrands, int, 1, 1000000);
+  vtkSetMacro(NumberOfStrands, int);
   vtkGetMacro(NumberOfStrands, int);
-  vtkSetClampMacro(StrandLength, double, 1e-6, 100.0);
+  vtkSetMacro(StrandLength, double);
   vtkGetMacro(StrandLength, double);
-  vtkSetClampMacro(NumberOfElements, int, 1, 1000);
+  vtkSetMacro(NumberOfElements, int);
   vtkGetMacro(NumberOfElements, int);
   vtkSetClampMacro(HairType, int, SMOOTH, CUSTOM);
   vtkGetMacro(HairType, int);
@@ -69,7 +69,7 @@ public:
   vtkGetMacro(Growth, int);
   vtkSetVector3Macro(CombDirection, double);
   vtkGetVector3Macro(CombDirection, double);
-  vtkSetClampMacro(CombWeight, double, 0.0, 1.0);
+  vtkSetMacro(CombWeight, double);
   vtkGetMacro(CombWeight, double);
 
   ///@{ Physical parameters, used when HairType is Custom (SI units).

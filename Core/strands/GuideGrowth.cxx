@@ -1,5 +1,7 @@
 #include "strands/GuideGrowth.h"
 
+#include <sstream>
+
 #include <cmath>
 
 namespace hair
@@ -7,13 +9,17 @@ namespace hair
 
 Status GrowthOptions::validate() const
 {
-  if (!(length > 0) || !std::isfinite(length))
+  if (!(length >= minLength && length <= maxLength))
   {
-    return Status::Error("the strand length must be a positive number of metres.");
+    std::ostringstream m;
+    m << "the strand length is " << length << " m; give a length from " << minLength << " to "
+      << maxLength << " m.";
+    return Status::Error(m.str());
   }
-  if (elements < 1)
+  if (elements < 1 || elements > maxElements)
   {
-    return Status::Error("a strand needs at least one element.");
+    return Status::Error("a strand of " + std::to_string(elements) + " elements: give 1 to " +
+                         std::to_string(maxElements) + ".");
   }
   if (combed)
   {
@@ -23,7 +29,9 @@ Status GrowthOptions::validate() const
     }
     if (!(combWeight >= 0 && combWeight <= 1))
     {
-      return Status::Error("the comb weight must lie in [0, 1].");
+      std::ostringstream m;
+      m << "the comb weight is " << combWeight << "; give a weight in [0, 1].";
+      return Status::Error(m.str());
     }
   }
   return hair.validate();

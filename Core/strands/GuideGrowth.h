@@ -25,8 +25,11 @@ struct GrowthOptions
   double combWeight = 0.5;
   HairParameters hair;
   std::uint32_t seed = 1;
-  /// Refuses a length that is not positive and finite, fewer than one element, a zero or
-  /// NaN comb direction or a weight outside [0, 1] when combed, and bad hair parameters.
+  static constexpr double minLength = 0.001, maxLength = 2; ///< m
+  static constexpr int maxElements = 100;
+  /// Refuses a length outside [minLength, maxLength] (NaN included), elements outside
+  /// [1, maxElements], a zero or NaN comb direction or a weight outside [0, 1] when combed,
+  /// and bad hair parameters, with the value and the range in the message.
   Status validate() const;
 };
 

@@ -76,10 +76,11 @@ Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& re
   {
     return s;
   }
-  if (options.count < 1)
+  if (options.count < 1 || options.count > RootSamplingOptions::maxCount)
   {
     return Status::Error("the number of strands is " + std::to_string(options.count) +
-                         ": give at least 1.");
+                         ": give 1 to " + std::to_string(RootSamplingOptions::maxCount) +
+                         " (the even spreading of roots costs the square of their number).");
   }
   if (options.candidatesPerRoot < 1)
   {

@@ -20,6 +20,10 @@ struct Root
 
 struct RootSamplingOptions
 {
+  /// The farthest-point selection costs count² × candidatesPerRoot distance tests
+  /// (quadratic: minutes at 100 000); more guides than this are refused (rendered hair
+  /// comes from Hair Interpolation, not from guides).
+  static constexpr int maxCount = 100000;
   int count = 200;
   std::uint32_t seed = 1;
   /// Candidates drawn per root before the even selection (more: more even, slower).
@@ -38,7 +42,7 @@ Status sampleUniformly(const TriangleMesh& mesh, const std::vector<std::uint8_t>
 /// then roots are picked one by one as the candidate farthest from those already picked
 /// (farthest-point sampling), which spaces them almost like a hexagonal packing. Normals are
 /// the triangles' (oriented as the mesh is; MeshQueries orients a closed mesh outwards).
-/// Refuses an empty region, a count below 1, and NaN.
+/// Refuses an empty region, a count outside [1, maxCount], and NaN.
 Status sampleRoots(const TriangleMesh& mesh, const std::vector<std::uint8_t>& region,
                    const RootSamplingOptions& options, std::vector<Root>& roots);
 

@@ -93,7 +93,12 @@ TEST(RootSampling, BadInputIsRefused)
   std::vector<Root> roots;
   RootSamplingOptions o;
   o.count = 0;
-  EXPECT_NE(sampleRoots(sphere, {}, o, roots).message().find("at least 1"), std::string::npos);
+  EXPECT_NE(sampleRoots(sphere, {}, o, roots).message().find("give 1 to 100000"),
+            std::string::npos);
+  // More than the quadratic spreading can do in reasonable time: refused at once.
+  o.count = 10000000;
+  EXPECT_NE(sampleRoots(sphere, {}, o, roots).message().find("give 1 to 100000"),
+            std::string::npos);
   o.count = 10;
   std::vector<std::uint8_t> none(sphere.triangles.size(), 0);
   EXPECT_NE(sampleRoots(sphere, none, o, roots).message().find("region is empty"),

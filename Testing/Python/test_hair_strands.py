@@ -1,6 +1,7 @@
 """pvpython: Hair Strands on the bundled body, as a user grows guide strands."""
 import math
 import os
+import time
 
 from paraview.simple import (LegacyVTKReader, PointSource, GenerateSurfaceNormals,
                              UpdatePipeline, Calculator)
@@ -69,5 +70,24 @@ masked.Region = "Point mask"
 masked.RegionArray = "no-such-array"
 UpdatePipeline(proxy=masked)
 check(any("no-such-array" in m for m in errors.messages), "a missing region array is refused")
+
+# Values outside the properties' domains are refused with the value and the range, before
+# any work, never clamped to something the user did not ask for (issue 24: these were
+# clamped silently, and 10 million strands ran without end).
+for prop, value, words in (("NumberOfStrands", 10**7, "10000000"), ("NumberOfStrands", 0, "give 1"),
+                           ("StrandLength", 0.0, "give a length"), ("StrandLength", 1e6, "1e+06"),
+                           ("StrandLength", float("nan"), "nan"), ("NumberOfElements", 0, "give 1"),
+                           ("NumberOfElements", 10000, "10000"), ("CombWeight", 2.0, "[0, 1]")):
+    bad = HairStrands(Input=body, Growth="Combed")  # noqa: F821
+    errors = Errors(bad)
+    setattr(bad, prop, value)
+    start = time.time()
+    UpdatePipeline(proxy=bad)
+    check(any(words in m for m in errors.messages) and time.time() - start < 10,
+          f"{prop} = {value} is refused at once ({errors.messages[:1]})")
+zero = HairStrands(Input=body, Growth="Combed", CombDirection=[0, 0, 0])  # noqa: F821
+errors = Errors(zero)
+UpdatePipeline(proxy=zero)
+check(any("comb direction" in m for m in errors.messages), "a zero comb direction is refused")
 
 hairtest.finish()
