@@ -107,9 +107,41 @@ int vtkHairSimulation::FillOutputPortInformation(int port, vtkInformation* info)
   return 1;
 }
 
+bool vtkHairSimulation::CheckProperties()
+{
+  struct Range
+  {
+    const char* name;
+    double value, min, max;
+    const char* unit;
+  };
+  const Range ranges[] = {
+      {"Time Step", this->TimeStep, 1e-6, 0.1, " s"},
+      {"Duration", this->Duration, 0, 3600, " s"},
+      {"Frame Rate", this->FrameRate, 0.1, 1000, " frames/s"},
+      {"Number Of Threads", double(this->NumberOfThreads), 1, 256, ""},
+      {"Points Per Element", double(this->PointsPerElement), 1, 256, ""},
+      {"Memory Budget", this->MemoryBudget, 0, 1e9, " MiB"},
+  };
+  for (const Range& r : ranges)
+  {
+    if (!(r.value >= r.min && r.value <= r.max))
+    {
+      vtkErrorMacro(<< "Hair Simulation: " << r.name << " is " << r.value << r.unit << "; give "
+                    << r.min << " to " << r.max << r.unit << ".");
+      return false;
+    }
+  }
+  return true;
+}
+
 int vtkHairSimulation::RequestInformation(vtkInformation*, vtkInformationVector**,
                                           vtkInformationVector* outputVector)
 {
+  if (!this->CheckProperties())
+  {
+    return 0;
+  }
   const double interval = 1.0 / this->FrameRate;
   const int frames = frameCount(this->Duration, this->FrameRate);
   std::vector<double> times(frames);
@@ -162,6 +194,10 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     return 1;
   }
 
+  if (!this->CheckProperties())
+  {
+    return 0;
+  }
   // (Re)build the run when a property or an input changed since it was built.
   vtkMTimeType mtime = this->GetMTime();
   mtime = std::max(mtime, strandsIn ? strandsIn->GetMTime() : 0);

@@ -47,11 +47,11 @@ public:
 
   vtkSetClampMacro(Model, int, SUPER_HELIX, PROJECTIVE);
   vtkGetMacro(Model, int);
-  vtkSetClampMacro(TimeStep, double, 1e-7, 1.0);
+  vtkSetMacro(TimeStep, double);
   vtkGetMacro(TimeStep, double);
-  vtkSetClampMacro(Duration, double, 0.0, 1e6);
+  vtkSetMacro(Duration, double);
   vtkGetMacro(Duration, double);
-  vtkSetClampMacro(FrameRate, double, 1e-3, 1e4);
+  vtkSetMacro(FrameRate, double);
   vtkGetMacro(FrameRate, double);
   vtkSetVector3Macro(Gravity, double);
   vtkGetVector3Macro(Gravity, double);
@@ -73,9 +73,9 @@ public:
   /// Super-Helix points per element in the frames (output 0, the state file, the
   /// penetration measure), drawn exactly on the helices; the projective model's points are
   /// its segments' nodes whatever this says.
-  vtkSetClampMacro(PointsPerElement, int, 1, 256);
+  vtkSetMacro(PointsPerElement, int);
   vtkGetMacro(PointsPerElement, int);
-  vtkSetClampMacro(NumberOfThreads, int, 1, 256);
+  vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
   /// Super-Helix: hair::SimulationOptions::quadratureTolerance. Not clamped here:
   /// hair::SimulationOptions::validate refuses values outside [1e-15, 1e-2] with a message.
@@ -121,7 +121,7 @@ public:
   /// Memory the frames may take, in MiB; 0: half of this machine's memory. A run that needs
   /// more is refused, unless a state file is set: then only the newest frames that fit stay
   /// in memory and earlier ones are read back from the file.
-  vtkSetClampMacro(MemoryBudget, double, 0.0, 1e9);
+  vtkSetMacro(MemoryBudget, double);
   vtkGetMacro(MemoryBudget, double);
 
   /// Drops every computed frame: the next request starts again from t = 0.
@@ -171,6 +171,9 @@ private:
   /// Builds the run from the inputs and the properties; false (with the error reported)
   /// when they are refused.
   bool Build(vtkInformationVector** inputVector);
+  /// The run's properties against the ranges of their XML domains (no setter clamps): an
+  /// error naming the property, its value and its range, before any work.
+  bool CheckProperties();
   vtkHairSimulation(const vtkHairSimulation&) = delete;
   void operator=(const vtkHairSimulation&) = delete;
   struct Internals;

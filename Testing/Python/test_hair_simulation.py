@@ -233,4 +233,23 @@ UpdatePipeline(proxy=reader, time=reader.TimestepValues[-1])
 check(n >= 10 and fetch(reader).GetNumberOfPoints() > 0,
       f"a run killed with SIGKILL reads back up to its last whole frame ({n} frames)")
 
+# Run properties outside their domains are refused with the property, its value and its
+# range, before any work (issue 24: Duration or Frame Rate NaN aborted ParaView with
+# std::length_error, Duration 1e6 at 1e4 frames/s with bad_alloc; Time Step 0 or negative was
+# clamped to 1e-7 s, 333 334 steps per frame).
+for props, words in (({"Duration": float("nan")}, "Duration is nan"),
+                     ({"FrameRate": float("nan")}, "Frame Rate is nan"),
+                     ({"Duration": 1e6, "FrameRate": 1e4}, "Duration is 1e+06"),
+                     ({"TimeStep": 0.0}, "Time Step is 0"),
+                     ({"TimeStep": -1.0}, "Time Step is -1"),
+                     ({"NumberOfThreads": 0}, "Number Of Threads is 0")):
+    bad = HairSimulation(Input=strands, Colliders=[head])  # noqa: F821
+    errors = Errors(bad)
+    for name, value in props.items():
+        setattr(bad, name, value)
+    start = time.time()
+    UpdatePipeline(proxy=bad)
+    check(any(words in m for m in errors.messages) and time.time() - start < 10,
+          f"{props} is refused at once ({errors.messages[:1]})")
+
 hairtest.finish()
