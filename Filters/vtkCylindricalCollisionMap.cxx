@@ -93,8 +93,9 @@ int vtkCylindricalCollisionMap::RequestData(vtkInformation*, vtkInformationVecto
       this->Projection == SPHERICAL ? hair::Projection::Spherical : hair::Projection::Cylindrical;
   spec.azimuthSamples = this->Resolution[0];
   spec.secondSamples = this->Resolution[1];
+  // 0 means no limit; a negative or NaN radius is refused by the spec's validation.
   spec.maxRadius =
-      this->MaximumRadius > 0 ? this->MaximumRadius : std::numeric_limits<double>::infinity();
+      this->MaximumRadius == 0 ? std::numeric_limits<double>::infinity() : this->MaximumRadius;
   if (this->AutomaticFrame)
   {
     const auto [lo, hi] = mesh.bounds();
@@ -122,6 +123,14 @@ int vtkCylindricalCollisionMap::RequestData(vtkInformation*, vtkInformationVecto
   {
     vtkErrorMacro(<< "Cylindrical Collision Map: " << s.message());
     return 0;
+  }
+  {
+    const auto [lo, hi] = mesh.bounds();
+    if (hair::Status s = spec.fitsBody(lo, hi); !s)
+    {
+      vtkErrorMacro(<< "Cylindrical Collision Map: " << s.message());
+      return 0;
+    }
   }
 
   hair::MeshQueries body(mesh);

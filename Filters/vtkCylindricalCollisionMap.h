@@ -65,7 +65,7 @@ public:
   vtkGetVector2Macro(Resolution, int);
 
   /// Rays stop this far from the axis or centre; 0 means no limit.
-  vtkSetClampMacro(MaximumRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(MaximumRadius, double);
   vtkGetMacro(MaximumRadius, double);
 
   /// The body part's name, carried in the table's field data (e.g. "head").

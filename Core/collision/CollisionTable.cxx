@@ -125,8 +125,43 @@ Status TableSpec::validate() const
   }
   if (!(maxRadius > 0)) // also refuses NaN
   {
-    return Status::Error("the maximum radius " + std::to_string(maxRadius) +
-                         " is not positive: give a positive distance, or infinity for no limit.");
+    std::ostringstream m;
+    m << "the maximum radius " << maxRadius
+      << " is not positive: give a positive distance, or infinity for no limit.";
+    return Status::Error(m.str());
+  }
+  return Status::Ok();
+}
+
+Status TableSpec::fitsBody(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const
+{
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double size = std::max((hi - lo).norm(), 1e-300);
+  const double reach = 10 * size;
+  auto describe = [&]()
+  {
+    std::ostringstream m;
+    m << "the body's box spans " << vec(lo) << " to " << vec(hi) << " (size " << size << ")";
+    return m.str();
+  };
+  if ((frame.origin - centre).norm() > reach)
+  {
+    return Status::Error("the frame origin " + vec(frame.origin) +
+                         " lies more than ten times the "
+                         "body's size from it (" +
+                         describe() + "): place it inside the body.");
+  }
+  if (projection == Projection::Cylindrical)
+  {
+    const double h0 = frame.axis.normalized().dot(centre - frame.origin);
+    if (heightMin < h0 - reach || heightMax > h0 + reach)
+    {
+      std::ostringstream m;
+      m << "the height range [" << heightMin << ", " << heightMax
+        << "] reaches more than ten times the body's size beyond it (" << describe()
+        << "): give heights within the body's extent along the axis.";
+      return Status::Error(m.str());
+    }
   }
   return Status::Ok();
 }

@@ -57,6 +57,10 @@ struct TableSpec
 
   static constexpr int MaximumSamples = 4096;
   Status validate() const;
+  /// Refuses a frame and extent that reach farther than ten times the body's size from the
+  /// body's box (lo, hi): rays from there cannot meet it, and coordinates like 1e308 overflow
+  /// CGAL's exact predicates.
+  Status fitsBody(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
 };
 
 /// Result of looking up one point.

@@ -129,5 +129,13 @@ absurd = CylindricalCollisionMap(Input=body, Resolution=[100000, 40])  # noqa: F
 expect_error(absurd, "resolution", "an absurd resolution")
 parallel = CylindricalCollisionMap(Input=body, AutomaticFrame=0, ReferenceDirection=[0, 2, 0])  # noqa: F821
 expect_error(parallel, "parallel", "a reference direction along the axis")
+# Issue 24: a height range of ±1e308 aborted ParaView on a CGAL assertion; a negative or NaN
+# maximum radius silently meant "no limit".
+huge = CylindricalCollisionMap(Input=body, AutomaticFrame=0, Origin=[0, 1, 0],  # noqa: F821
+                               HeightRange=[-1e308, 1e308])
+expect_error(huge, "ten times the body's size", "a height range of ±1e308")
+for radius in (-5.0, float("nan")):
+    bad = CylindricalCollisionMap(Input=body, MaximumRadius=radius)  # noqa: F821
+    expect_error(bad, "maximum radius", f"a maximum radius of {radius}")
 
 hairtest.finish()
