@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <sstream>
 
 namespace hair
 {
@@ -13,11 +14,12 @@ Status GuideStrand::validate(const std::string& what) const
   {
     return Status::Error(what + " has a NaN root or a zero or NaN growth direction.");
   }
-  if (elements < 1 || !(length > 0) || !std::isfinite(length))
+  if (elements < 1 || elements > maxElements || !(length > 0 && length <= maxLength))
   {
-    return Status::Error(what + " has " + std::to_string(elements) + " elements and length " +
-                         std::to_string(length) +
-                         ": give at least one element and a positive length.");
+    std::ostringstream m;
+    m << what << " has " << elements << " elements and length " << length << " m: give 1 to "
+      << maxElements << " elements and a length in (0, " << maxLength << "] m.";
+    return Status::Error(m.str());
   }
   if (Status s = hair.validate(); !s)
   {

@@ -22,8 +22,13 @@ struct GuideStrand
   HairParameters hair;
   std::uint32_t seed = 1; ///< of the natural-curvature variation
 
-  /// Refuses a NaN root, a zero or NaN growth direction, a NaN normal, fewer than one
-  /// element, a length that is not positive and finite, and bad hair parameters. The
+  /// Bounds that keep a strand's work and memory sane whatever a file or an array says (a
+  /// Super-Helix of N elements assembles N × N blocks; positions of 1e300 m overflow).
+  static constexpr int maxElements = 1000;
+  static constexpr double maxLength = 10; ///< m
+
+  /// Refuses a NaN root, a zero or NaN growth direction, a NaN normal, elements outside
+  /// [1, maxElements], a length outside (0, maxLength] m, and bad hair parameters. The
   /// message starts with `what` (e.g. "strand 3").
   Status validate(const std::string& what) const;
   /// Orthonormal root frame: n0 along the growth, n1 as close as possible to the scalp

@@ -11,7 +11,7 @@ import time
 
 import h5py
 import numpy as np
-from paraview.simple import LegacyVTKReader, UpdatePipeline
+from paraview.simple import Calculator, LegacyVTKReader, UpdatePipeline
 
 import hairtest
 from hairtest import Errors, check, fetch
@@ -251,5 +251,18 @@ for props, words in (({"Duration": float("nan")}, "Duration is nan"),
     UpdatePipeline(proxy=bad)
     check(any(words in m for m in errors.messages) and time.time() - start < 10,
           f"{props} is refused at once ({errors.messages[:1]})")
+
+# Cell arrays of absurd size are refused, not allocated (issue 24: NumberOfElements 10000
+# and Length 1e300 aborted with bad_alloc at 14-15 GB).
+for name, value, words in (("NumberOfElements", "10000", "10000 elements"),
+                           ("Length", "1e300", "length 1e+300")):
+    crafted = Calculator(Input=strands, AttributeType="Cell Data", ResultArrayName=name,  # noqa: F821
+                         Function=value)
+    bad = HairSimulation(Input=crafted, Colliders=[head])  # noqa: F821
+    errors = Errors(bad)
+    start = time.time()
+    UpdatePipeline(proxy=bad)
+    check(any(words in m for m in errors.messages) and time.time() - start < 10,
+          f"a {name} cell array of {value} is refused at once ({errors.messages[:1]})")
 
 hairtest.finish()
