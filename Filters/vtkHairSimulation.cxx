@@ -40,6 +40,7 @@ struct vtkHairSimulation::Internals
   hair::Simulation Sim;
   bool Initialized = false;
   vtkMTimeType BuiltAt = 0; ///< max MTime of this filter and its inputs when Sim was built
+  std::string Written;      ///< the state file this filter created last (its own to replace)
 };
 
 vtkHairSimulation::vtkHairSimulation()
@@ -83,7 +84,8 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
      << this->HairContactDamping << " friction " << this->HairContactFriction << " per length "
      << (this->HairContactPerLength ? "on" : "off") << "\n"
-     << indent << "StateFileName: " << this->StateFileName << "\n";
+     << indent << "StateFileName: " << this->StateFileName << "\n"
+     << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n";
 }
 
 int vtkHairSimulation::FillInputPortInformation(int port, vtkInformation* info)
@@ -342,10 +344,18 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   // take ParaView down with it).
   hair::StorageOptions storage;
   storage.stateFile = this->StateFileName;
+  // A file this filter wrote itself is its own to replace when it runs again (a property
+  // changed); any other existing state file only with Overwrite State File.
+  storage.replaceStateFile = this->OverwriteStateFile || this->StateFileName == in.Written;
   storage.memoryBudget =
       this->MemoryBudget > 0 ? this->MemoryBudget * 1048576.0 : 0.5 * hair::physicalMemoryBytes();
   storage.frames = frameCount(this->Duration, this->FrameRate);
-  if (hair::Status s = in.Sim.initialize(guides, scene, o, storage); !s)
+  const hair::Status started = in.Sim.initialize(guides, scene, o, storage);
+  if (started && !this->StateFileName.empty())
+  {
+    in.Written = this->StateFileName;
+  }
+  if (hair::Status s = started; !s)
   {
     const bool memory = s.message().find("of memory") != std::string::npos;
     vtkErrorMacro(<< "Hair Simulation: " << s.message()

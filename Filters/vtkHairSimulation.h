@@ -117,6 +117,11 @@ public:
   /// Where every frame is written (HDF5, docs/state-file.md); empty: not written.
   vtkSetStdStringFromCharMacro(StateFileName);
   vtkGetCharFromStdStringMacro(StateFileName);
+  /// Replace a HairDynamics state file already at StateFileName (anything else there is
+  /// never written over).
+  vtkSetMacro(OverwriteStateFile, bool);
+  vtkGetMacro(OverwriteStateFile, bool);
+  vtkBooleanMacro(OverwriteStateFile, bool);
 
   /// Memory the frames may take, in MiB; 0: half of this machine's memory. A run that needs
   /// more is refused, unless a state file is set: then only the newest frames that fit stay
@@ -165,6 +170,7 @@ protected:
   bool HairContactPerLength = false;
   double SlipVelocity = 1e-3; ///< m/s
   std::string StateFileName;
+  bool OverwriteStateFile = false;
   double MemoryBudget = 0; ///< MiB, 0: half of the machine's memory
 
 private:

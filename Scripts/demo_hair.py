@@ -37,7 +37,8 @@ curly = HairStrands(registrationName="Curly guides", Input=body, NumberOfStrands
 curly_sim = HairSimulation(registrationName="Curly simulation", Input=curly,  # noqa: F821
                            Colliders=[head, trunk], Duration=SHOWN, FrameRate=30,
                            BodyMotion="Shake", MotionAmplitude=0.5, MotionFrequency=1.0,
-                           Wind=[0, 0, -0.5], StateFileName=curly_state)
+                           Wind=[0, 0, -0.5], StateFileName=curly_state,
+                           OverwriteStateFile=1)
 curly_sim.UpdatePipeline(SHOWN)
 
 runs = [("Super-Helix, wavy", os.path.join(out, "super-helix.h5")),

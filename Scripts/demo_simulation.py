@@ -45,7 +45,7 @@ for model, elements in (("Projective", 40), ("Super-Helix", 10)):
     sim = HairSimulation(registrationName=f"{model} simulation", Input=guides,  # noqa: F821
                          Colliders=[head, trunk], Model=model, Duration=DURATION, FrameRate=30,
                          BodyMotion="Shake", MotionAmplitude=0.5, MotionFrequency=1.0,
-                         Wind=[0, 0, -0.5], StateFileName=state)
+                         Wind=[0, 0, -0.5], StateFileName=state, OverwriteStateFile=1)
     start = time.time()
     sim.UpdatePipeline(DURATION)
     runs[model] = dict(sim=sim, state=state, seconds=time.time() - start)

@@ -501,6 +501,7 @@ int scene(const Arguments& args)
   Simulation sim;
   StorageOptions storage;
   storage.stateFile = args.text("out", "");
+  storage.replaceStateFile = true; // a study run again writes its own output again
   const int frames = static_cast<int>(std::lround(duration * 30)) + 1;
   if (s = sim.initialize(guides, scene, o, storage); s)
     s = sim.advanceTo(frames);

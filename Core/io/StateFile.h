@@ -75,10 +75,19 @@ public:
   StateFileWriter(const StateFileWriter&) = delete;
   StateFileWriter& operator=(const StateFileWriter&) = delete;
 
-  /// Creates (truncates) the file. `extraEnergyTerms` are the names of energy terms beyond
-  /// the required five that frames will carry.
+  /// What create() does with a file that already exists at the path.
+  enum class Existing
+  {
+    Refuse,           ///< keep it, and say so
+    ReplaceStateFile, ///< replace it if it is a HairDynamics state file; keep anything else
+  };
+  /// Creates the file. `extraEnergyTerms` are the names of energy terms beyond the required
+  /// five that frames will carry. Never writes over something that is not a HairDynamics
+  /// state file (a user's notes, another program's HDF5 file), nor over a state file unless
+  /// `existing` says so, nor over one another run is writing: each refused with a message.
   Status create(const std::string& path, const StateHeader& header,
-                const std::vector<std::string>& extraEnergyTerms = {});
+                const std::vector<std::string>& extraEnergyTerms = {},
+                Existing existing = Existing::Refuse);
   Status append(const StateFrame& frame);
   Status close();
   bool isOpen() const;

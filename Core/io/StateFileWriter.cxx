@@ -5,6 +5,8 @@
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -177,7 +179,7 @@ std::int64_t StateFileWriter::numberOfFrames() const
 }
 
 Status StateFileWriter::create(const std::string& path, const StateHeader& header,
-                               const std::vector<std::string>& extraEnergyTerms)
+                               const std::vector<std::string>& extraEnergyTerms, Existing existing)
 {
   close();
   if (Status s = header.validate(); !s)
@@ -189,10 +191,32 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
     P = std::make_unique<Impl>();
     return Status::Error("the state file '" + path + "': " + what);
   };
+  struct stat info;
+  if (::stat(path.c_str(), &info) == 0)
+  {
+    if (!S_ISREG(info.st_mode))
+    {
+      return fail("exists and is not a regular file: not written over; choose another name.");
+    }
+    StateFileReader old;
+    if (Status s = old.open(path); !s)
+    {
+      return fail("exists and is not a HairDynamics state file that can be read (" + s.message() +
+                  "), or another run is writing it: it is not written over; choose another "
+                  "name.");
+    }
+    if (existing != Existing::ReplaceStateFile)
+    {
+      return fail("exists (a state file of " + std::to_string(old.numberOfFrames()) +
+                  " frames): it is kept; choose another name, or allow the run to replace it "
+                  "(Hair Simulation's Overwrite State File).");
+    }
+  }
   P->File = createFile(path);
   if (!P->File.valid())
   {
-    return fail("cannot be created: check that its folder exists and is writable.");
+    return fail("cannot be created: check that its folder exists and is writable, and that no "
+                "other run is writing the same file.");
   }
   P->Header = header;
   P->Path = path;

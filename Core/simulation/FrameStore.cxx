@@ -88,7 +88,9 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
   if (!options.stateFile.empty())
   {
     auto writer = std::make_unique<StateFileWriter>();
-    Status s = writer->create(options.stateFile, header, extra);
+    Status s = writer->create(options.stateFile, header, extra,
+                              options.replaceStateFile ? StateFileWriter::Existing::ReplaceStateFile
+                                                       : StateFileWriter::Existing::Refuse);
     s = s ? writer->append(first) : s;
     if (!s)
     {

@@ -18,6 +18,8 @@ struct StorageOptions
 {
   /// Where every frame is written (docs/state-file.md); empty: nowhere.
   std::string stateFile;
+  /// Replace a state file already at stateFile (anything else there is never written over).
+  bool replaceStateFile = false;
   /// Bytes the frames may take in memory (∞: no limit).
   double memoryBudget = std::numeric_limits<double>::infinity();
   /// The frames the run will have, frame 0 included (0: unknown, no budget check). A run

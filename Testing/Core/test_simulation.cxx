@@ -191,6 +191,7 @@ TEST_P(SimulationModels, ReleasedFramesKeepTheirTimeAndEnergyAndTheRunGoesOn)
   StorageOptions storage;
   storage.stateFile = ::testing::TempDir() + "/streamed-" +
                       (GetParam() == ModelType::SuperHelix ? "sh" : "pr") + ".h5";
+  storage.replaceStateFile = true; // this test's own file from an earlier run
   storage.memoryBudget = 2.5 * perFrame;
   storage.frames = 6;
   const Status opened = streamed.initialize(g, {}, o, storage);

@@ -58,9 +58,13 @@ StateFrame frame(const StateHeader& h, int t)
   return f;
 }
 
+/// A fresh path in the test's temporary folder: a file left there by an earlier run is
+/// removed (the writer keeps existing files unless told otherwise).
 std::string temp(const char* name)
 {
-  return ::testing::TempDir() + "/" + name;
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::remove(path.c_str());
+  return path;
 }
 
 void expectFrameEquals(const StateFrame& a, const StateFrame& b)
@@ -325,4 +329,58 @@ TEST(StateFile, AttributesOfAnotherShapeAreNotReadIntoOneValue)
   s = r.open(withAttribute("format", strings, formats, 2));
   H5Tclose(strings);
   EXPECT_NE(s.message().find("not a HairDynamics state file"), std::string::npos) << s.message();
+}
+
+TEST(StateFile, NothingButAStateFileIsWrittenOverAndThatOnlyWhenAsked)
+{
+  // A user's notes, another program's HDF5 file, a folder: never written over, whatever the
+  // caller asks (issue 24: a State File Name naming an existing file overwrote it).
+  const StateHeader h = header(7, 11, 30);
+  const std::string notes = temp("notes.h5");
+  {
+    std::ofstream(notes) << "my notes\n";
+  }
+  const std::string other = temp("other-program.h5");
+  {
+    const hid_t f = H5Fcreate(other.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t n = 4;
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t d =
+        H5Dcreate2(f, "data", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dclose(d);
+    H5Sclose(space);
+    H5Fclose(f);
+  }
+  for (const std::string& path : {notes, other, ::testing::TempDir()})
+  {
+    for (auto existing :
+         {StateFileWriter::Existing::Refuse, StateFileWriter::Existing::ReplaceStateFile})
+    {
+      StateFileWriter w;
+      const Status s = w.create(path, h, {}, existing);
+      ASSERT_FALSE(s.ok()) << path;
+      EXPECT_NE(s.message().find("not written over"), std::string::npos) << s.message();
+    }
+  }
+  std::ifstream kept(notes);
+  std::string line;
+  std::getline(kept, line);
+  EXPECT_EQ(line, "my notes");
+
+  // A state file: kept unless the caller says to replace it.
+  const std::string state = temp("existing-state.h5");
+  {
+    StateFileWriter w;
+    ASSERT_TRUE(w.create(state, h, {"residual"}).ok());
+    ASSERT_TRUE(w.append(frame(h, 0)).ok());
+    ASSERT_TRUE(w.close().ok());
+  }
+  StateFileWriter again;
+  const Status refused = again.create(state, h, {"residual"});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("exists (a state file of 1 frames)"), std::string::npos)
+      << refused.message();
+  const Status replaced =
+      again.create(state, h, {"residual"}, StateFileWriter::Existing::ReplaceStateFile);
+  EXPECT_TRUE(replaced.ok()) << replaced.message();
 }

@@ -16,7 +16,7 @@ state = sys.argv[2]
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 body = LegacyVTKReader(FileNames=[os.path.join(ROOT, "Data", "body.vtk")])
 strands = HairStrands(Input=body, NumberOfStrands=10, NumberOfElements=4)  # noqa: F821
-sim = HairSimulation(Input=strands, Duration=0.2, StateFileName=state)  # noqa: F821
+sim = HairSimulation(Input=strands, Duration=0.2, StateFileName=state, OverwriteStateFile=1)  # noqa: F821
 sim.UpdatePipeline(0.2)
 pm = servermanager.vtkProcessModule.GetProcessModule()
 rank = pm.GetPartitionId()

@@ -11,7 +11,7 @@ import time
 
 import h5py
 import numpy as np
-from paraview.simple import Calculator, LegacyVTKReader, UpdatePipeline
+from paraview.simple import Calculator, Delete, LegacyVTKReader, UpdatePipeline
 
 import hairtest
 from hairtest import Errors, check, fetch
@@ -264,5 +264,40 @@ for name, value, words in (("NumberOfElements", "10000", "10000 elements"),
     UpdatePipeline(proxy=bad)
     check(any(words in m for m in errors.messages) and time.time() - start < 10,
           f"a {name} cell array of {value} is refused at once ({errors.messages[:1]})")
+
+# A State File Name that names something else is never written over; an existing state
+# file only with Overwrite State File (issue 24: both were overwritten without a word).
+notes = os.path.join(tmp, "notes.h5")
+with open(notes, "w") as f:
+    f.write("my notes\n")
+for overwrite in (0, 1):
+    bad = HairSimulation(Input=strands, Duration=0.1, StateFileName=notes,  # noqa: F821
+                         OverwriteStateFile=overwrite)
+    errors = Errors(bad)
+    bad.UpdatePipeline(0.1)
+    check(any("not written over" in m for m in errors.messages) and open(notes).read() == "my notes\n",
+          f"a user's file is kept (Overwrite {overwrite}: {errors.messages[:1]})")
+existing = os.path.join(tmp, "existing.h5")
+first = HairSimulation(Input=strands, Duration=0.2, StateFileName=existing)  # noqa: F821
+first.UpdatePipeline(0.2)
+Delete(first)  # closes its writer
+del first
+again = HairSimulation(Input=strands, Duration=0.1, StateFileName=existing)  # noqa: F821
+errors = Errors(again)
+again.UpdatePipeline(0.1)
+check(any("it is kept" in m for m in errors.messages), f"an existing state file is kept ({errors.messages[:1]})")
+again.OverwriteStateFile = 1
+errors = Errors(again)
+again.UpdatePipeline(0.1)
+with h5py.File(existing, "r", swmr=True) as f:
+    frames = f["time"].shape[0]
+check(not errors.messages and frames == 4,
+      f"with Overwrite State File it is replaced ({frames} frames; {errors.messages[:1]})")
+# While another run writes the file, it is refused with a message that says so.
+busy = HairSimulation(Input=strands, Duration=0.1, StateFileName=existing, OverwriteStateFile=1)  # noqa: F821
+errors = Errors(busy)
+busy.UpdatePipeline(0.1)
+check(any("other run is writing" in m for m in errors.messages),
+      f"a file another run is writing is refused ({errors.messages[:1]})")
 
 hairtest.finish()
