@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <unordered_map>
@@ -176,25 +177,46 @@ std::pair<double, double> clumpProfile(const HairParameters& hair)
   return {start, std::min(1.0, start + 0.25)};
 }
 
-Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
-                               const InterpolationOptions& options)
+/// The guides' rest roots and root frames, their typical spacing and a grid of the roots:
+/// what both ways of binding start from, checked and built once.
+struct HairInterpolation::GuideRoots
 {
-  Roots.clear();
+  std::vector<Eigen::Vector3d> roots;
+  std::vector<Eigen::Matrix3d> frames;
+  double spacing = 0;
+  std::unique_ptr<RootGrid> grid;
+};
+
+Status HairInterpolation::guideRoots(const std::vector<GuideStrand>& guides,
+                                     const InterpolationOptions& options, GuideRoots& out)
+{
   if (Status s = options.validate(); !s)
     return s;
   if (guides.empty())
     return Status::Error("there are no guides to interpolate.");
+  out.roots.resize(guides.size());
+  out.frames.resize(guides.size());
   for (std::size_t k = 0; k < guides.size(); ++k)
+  {
     if (Status s = guides[k].validate("guide " + std::to_string(k)); !s)
       return s;
+    out.roots[k] = guides[k].root;
+    out.frames[k] = guides[k].rootFrame();
+  }
+  out.spacing = guideSpacing(out.roots);
+  out.grid = std::make_unique<RootGrid>(out.roots, out.spacing);
+  return Status::Ok();
+}
+
+Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
+                               const InterpolationOptions& options)
+{
+  Roots.clear();
+  GuideRoots set;
+  if (Status s = guideRoots(guides, options, set); !s)
+    return s;
   if (Status s = scalp.validate("the scalp surface"); !s)
     return s;
-
-  std::vector<Eigen::Vector3d> roots(guides.size());
-  for (std::size_t k = 0; k < guides.size(); ++k)
-    roots[k] = guides[k].root;
-  const double spacing = guideSpacing(roots);
-  const RootGrid grid(roots, spacing);
 
   // The scalp near the roots: triangles whose centroid is within 1.5 spacings of a root.
   std::vector<std::uint8_t> region(scalp.triangles.size(), 0);
@@ -205,14 +227,14 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const Tri
     const auto& tri = scalp.triangles[t];
     const Eigen::Vector3d c =
         (scalp.points[tri[0]] + scalp.points[tri[1]] + scalp.points[tri[2]]) / 3;
-    grid.nearest(c, 1, found);
-    region[t] = found[0].first <= 1.5 * spacing;
+    set.grid->nearest(c, 1, found);
+    region[t] = found[0].first <= 1.5 * set.spacing;
     any = any || region[t];
   }
   if (!any)
     return Status::Error("no part of the scalp surface lies near the guides' "
                          "roots (within 1.5 × their spacing of " +
-                         std::to_string(spacing) + " m): give the surface the guides grew on.");
+                         std::to_string(set.spacing) + " m): give the surface the guides grew on.");
   std::vector<Root> samples;
   if (Status s =
           sampleUniformly(scalp, region, std::size_t(options.strands), options.seed, samples);
@@ -221,7 +243,7 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const Tri
   std::vector<Eigen::Vector3d> positions(samples.size());
   for (std::size_t r = 0; r < samples.size(); ++r)
     positions[r] = samples[r].position;
-  return bind(guides, positions, options);
+  return bindRoots(guides, set, positions, options);
 }
 
 Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
@@ -229,26 +251,25 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
                                const InterpolationOptions& options)
 {
   Roots.clear();
-  if (Status s = options.validate(); !s)
+  GuideRoots set;
+  if (Status s = guideRoots(guides, options, set); !s)
     return s;
-  if (guides.empty())
-    return Status::Error("there are no guides to interpolate.");
+  return bindRoots(guides, set, rendered, options);
+}
+
+Status HairInterpolation::bindRoots(const std::vector<GuideStrand>& guides, GuideRoots& set,
+                                    const std::vector<Eigen::Vector3d>& rendered,
+                                    const InterpolationOptions& options)
+{
   if (rendered.empty())
     return Status::Error("there are no rendered roots.");
   for (const Eigen::Vector3d& x : rendered)
     if (!x.allFinite())
       return Status::Error("a rendered root is not finite.");
-  std::vector<Eigen::Vector3d> roots(guides.size());
-  std::vector<Eigen::Matrix3d> frames(guides.size());
-  for (std::size_t k = 0; k < guides.size(); ++k)
-  {
-    if (Status s = guides[k].validate("guide " + std::to_string(k)); !s)
-      return s;
-    roots[k] = guides[k].root;
-    frames[k] = guides[k].rootFrame();
-  }
-  const double spacing = guideSpacing(roots);
-  const RootGrid grid(roots, spacing);
+  const std::vector<Eigen::Vector3d>& roots = set.roots;
+  const std::vector<Eigen::Matrix3d>& frames = set.frames;
+  const double spacing = set.spacing;
+  const RootGrid& grid = *set.grid;
   std::vector<std::pair<double, int>> found;
   std::vector<Binding> bound(rendered.size());
   std::mt19937_64 rng(options.seed ^ 0x9e3779b97f4a7c15ull);
@@ -316,8 +337,8 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
       Periods[g] = std::hypot(2 * M_PI * h.helixRadius, h.helixStep);
   }
   Options = options;
-  RestRoots = std::move(roots);
-  RestFrames = std::move(frames);
+  RestRoots = std::move(set.roots);
+  RestFrames = std::move(set.frames);
   if (options.clumpStart >= 0)
   {
     ClumpStart = options.clumpStart;
@@ -325,7 +346,7 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,
   }
   else
   {
-    // The guides' most common hair type decides (the first guide's when they are mixed).
+    // The first guide's hair type decides (Hair Strands gives all its guides one type).
     std::tie(ClumpStart, ClumpEnd) = clumpProfile(guides.front().hair);
   }
   Roots = std::move(bound);

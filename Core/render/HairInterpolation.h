@@ -133,6 +133,13 @@ public:
   const InterpolationOptions& options() const { return Options; }
 
 private:
+  struct GuideRoots;
+  static Status guideRoots(const std::vector<GuideStrand>& guides,
+                           const InterpolationOptions& options, GuideRoots& out);
+  Status bindRoots(const std::vector<GuideStrand>& guides, GuideRoots& set,
+                   const std::vector<Eigen::Vector3d>& rendered,
+                   const InterpolationOptions& options);
+
   InterpolationOptions Options;
   std::vector<Binding> Roots;
   std::vector<Eigen::Matrix3d> RestFrames;
