@@ -607,21 +607,21 @@ Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCu
     return Status::Error("the guides' cell array 'RestRoot' needs 3 components per cell.");
   }
   const vtkIdType P = input->GetNumberOfPoints();
-  auto pointArray = [&](const char* name, int components) -> vtkDataArray*
+  auto inputArray = [&](const char* name, int components) -> vtkDataArray*
   {
     vtkDataArray* a = pd->GetArray(name);
     return a && a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == P ? a
                                                                                         : nullptr;
   };
-  vtkDataArray* tangent = pointArray("Tangent", 3);
-  vtkDataArray* director = pointArray("Director1", 3);
+  vtkDataArray* tangent = inputArray("Tangent", 3);
+  vtkDataArray* director = inputArray("Director1", 3);
   GuideCurves c;
   c.offsets.push_back(0);
   std::vector<vtkDataArray*> carried;
   std::vector<std::vector<double>*> carriedOut;
   for (const char* name : {"Speed", "curvature"})
   {
-    if (vtkDataArray* a = pointArray(name, 1))
+    if (vtkDataArray* a = inputArray(name, 1))
     {
       carried.push_back(a);
       carriedOut.push_back(&c.scalars[name]);
