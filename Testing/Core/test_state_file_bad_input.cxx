@@ -563,9 +563,19 @@ TEST(StateFileBadInput, TwoReadersOfOneFileSeeItsNewFrames)
 
 TEST(StateFileBadInput, NoHdf5HandleIsLeftOpen)
 {
-  // After every test above (run in this order), refusals included: no file, group, dataset,
-  // datatype or attribute of HDF5's left open by the reader or the writer (a leaked handle
-  // keeps a file open and memory held for the rest of a ParaView session).
+  // After reads and refusals of every kind (CTest runs each test in its own process, so this
+  // one makes its own): no file, group, dataset, datatype or attribute of HDF5's left open by
+  // the reader or the writer (a leaked handle keeps a file open and memory held for the rest
+  // of a ParaView session).
+  expectRead(stateFile("left-open-good.h5"));
+  const int number = 1;
+  expectRefused(edited("left-open-format.h5",
+                       [&](hid_t f) { attribute(f, "format", H5T_NATIVE_INT, -1, &number); }),
+                "'format' is an integer");
+  expectRefused(edited("left-open-q.h5", [&](hid_t f) { H5Ldelete(f, "/frames/q", H5P_DEFAULT); }),
+                "/frames/q is missing");
+  expectRefused(edited("left-open-time.h5", [&](hid_t f) { poke(f, "/time", 2, -1.0); }),
+                "/time does not increase");
   EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
   // The count sees an open file (the check can fail).
   const std::string path = stateFile("count.h5");
