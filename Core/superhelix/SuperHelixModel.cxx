@@ -95,6 +95,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
       spec.windField = World.air.field();
     }
     spec.quadratureTolerance = Options.quadratureTolerance;
+    spec.integrator = Options.integrator;
     spec.root = World.rootMotion.carriedRoot(g.root, g.rootFrame());
     if (Status s = Helices[k].initialize(spec, 0.0); !s)
     {
@@ -147,6 +148,8 @@ Status SuperHelixModel::advanceTo(double target)
     }
     return Status::Ok();
   };
+  Substeps = Rejected = FirstOrder = 0;
+  FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
     // Hair–hair: a search before each step; when pairs close fast, the step is cut into
@@ -169,13 +172,42 @@ Status SuperHelixModel::advanceTo(double target)
           return s;
         }
       }
-      if (Status s = stepStrands(Helices, dt / pieces, Run.threads); !s)
+      // The tolerance is per frame: each piece of a step gets its share of it.
+      const double tolerance = Options.tolerance * (dt / pieces) / Run.frameInterval;
+      if (Status s = stepStrands(Helices, dt / pieces, Run.threads, tolerance); !s)
       {
         return s;
       }
+      tally();
     }
   }
   return Status::Ok();
+}
+
+void SuperHelixModel::tally()
+{
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    const SuperHelix& h = Helices[k];
+    Substeps += h.lastSubsteps();
+    Rejected += h.lastRejected();
+    FirstOrder += h.lastFirstOrder();
+    FrameError[k] += h.lastErrorEstimate();
+  }
+}
+
+std::map<std::string, double> SuperHelixModel::stepStatistics() const
+{
+  const double strands = std::max<std::size_t>(1, Helices.size());
+  double error = 0;
+  for (double e : FrameError)
+  {
+    error = std::max(error, e);
+  }
+  return {{"substeps", Substeps / strands},
+          {"rejected_substeps", Rejected / strands},
+          {"first_order_share", Substeps > 0 ? FirstOrder / Substeps : 0.0},
+          {"error_estimate", error}};
 }
 
 void SuperHelixModel::describe(StateHeader& header) const
@@ -194,6 +226,8 @@ void SuperHelixModel::describe(StateHeader& header) const
   auto& at = header.attributes;
   at["points_per_element"] = Options.pointsPerElement;
   at["quadrature_tolerance"] = Options.quadratureTolerance;
+  at["integrator"] = static_cast<int>(Options.integrator);
+  at["tolerance"] = Options.tolerance;
   const BodyContactParameters& c = Options.contacts;
   at["contacts"] = c.enabled ? 1 : 0;
   at["contact_stiffness"] = c.stiffness;
