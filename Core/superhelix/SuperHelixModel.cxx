@@ -172,8 +172,8 @@ Status SuperHelixModel::advanceTo(double target)
           return s;
         }
       }
-      // The tolerance is per frame: each piece of a step gets its share of it.
-      const double tolerance = Options.tolerance * (dt / pieces) / Run.frameInterval;
+      // The tolerance is per second of simulated time: each piece of a step gets its share.
+      const double tolerance = Options.tolerance * (dt / pieces);
       if (Status s = stepStrands(Helices, dt / pieces, Run.threads, tolerance); !s)
       {
         return s;

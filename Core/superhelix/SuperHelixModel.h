@@ -26,9 +26,12 @@ struct SuperHelixOptions
   double quadratureTolerance = QuadratureChooser::defaultTolerance();
   /// The time step of every strand (StrandSpec::integrator).
   Integrator integrator = Integrator::SemiImplicit;
-  /// Accuracy on request [m]: with tolerance > 0 every strand advances each frame in
-  /// sub-steps whose embedded error estimates add up to at most `tolerance` per frame
-  /// (SuperHelix::advance); 0: fixed steps of the run's time step.
+  /// Accuracy on request [m per second of simulated time]: with tolerance > 0 every strand
+  /// advances in sub-steps whose error estimates (SuperHelix::lastErrorEstimate, at every
+  /// element end) add up to at most `tolerance` over each second (SuperHelix::advance with
+  /// tolerance · dt for a step dt); 0: fixed steps of the run's time step. Measured on a
+  /// released strand, the tip's error after 1 s stayed below the tolerance with both
+  /// integrators (docs/super-helix.md, "Accuracy on request").
   double tolerance = 0;
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the model.
