@@ -25,6 +25,20 @@ Status SuperHelixOptions::validate() const
       << QuadratureChooser::MaxTolerance << " is the fastest.";
     return Status::Error(s.str());
   }
+  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
+  {
+    return Status::Error("the integrator " + std::to_string(static_cast<int>(integrator)) +
+                         " is not a time step: give 0 (semi-implicit, the paper's) or 1 "
+                         "(second order, midpoint).");
+  }
+  if (!(std::isfinite(tolerance) && tolerance >= 0))
+  {
+    std::ostringstream s;
+    s << "the tolerance " << tolerance
+      << " m/s is not a distance per second >= 0; give 0 for fixed steps or the error the "
+         "steps may add per second of simulated time, e.g. 5e-3.";
+    return Status::Error(s.str());
+  }
   if (pointsPerElement < 1)
   {
     return Status::Error("at least one display point per element is needed.");
