@@ -7,6 +7,7 @@
 //   hair_study release     out=<csv> [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]
 //   hair_study scene       out=<h5>  [strands=6] [n=10] [duration=1] [dt=1/30]
 //                          [model=super-helix|projective]
+//   hair_study integrator  out=<csv> [quick=0|1] [demo=0|1] [guides=200] [seconds=5]
 //   hair_study clump       out=<csv> [quick=0|1] [strands=50] [duration=6] [ramp=3]
 //                          [updates=4] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
 //                          [contacts=1] [amplitude=0.01] [frequency=3]
@@ -14,6 +15,7 @@
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
 #include "ClumpScene.h"
+#include "DemoScene.h"
 #include "contact/HairHairContacts.h"
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
@@ -23,6 +25,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -668,9 +671,193 @@ int clump(const Arguments& args)
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------
+// Issue 23: the two time steps measured side by side (docs/super-helix.md, "The
+// second-order step", "Accuracy on request"). One CSV row per run:
+//   case, integrator, dt_s, tolerance_m_per_s, figure, value, steps, rejected, first_order,
+//   wall_s
+// release: a 30 cm smooth strand clamped horizontally, no friction, no air, 2 s; figure
+//   residual_share = residual / gravitational energy released at 2 s.
+// tip: the same strand with air drag 1e-5 kg/(m·s), 1 s, frames of 1/30 s; figure
+//   tip_error_m = the largest distance of its tip from that of the second-order step at
+//   1/7680 s over the frames (the reference, itself within 2.8e-5 m of 1/15360 s).
+// tolerance: the tip's strand in frames of 1/30 s with advance(1/30, tolerance/30).
+// demo (demo=1): the demo scene (Testing/Fixtures/DemoScene: wavy guides on the bundled
+//   body's scalp, head and trunk tables, ±0.5 rad 1 Hz shake, 0.5 m/s wind) through
+//   Simulation, `seconds` long, with and without contacts; figure closure = max |residual| /
+//   max |work done on the hair|, and the cost per simulated second.
+// quick=1: fewer step sizes and tolerances (seconds of run time).
+
+struct IntegratorRun
+{
+  std::vector<Eigen::Vector3d> tips;
+  double residualShare = 0, wall = 0;
+  long steps = 0, rejected = 0, firstOrder = 0;
+};
+
+IntegratorRun releasedStrand(Integrator integrator, double air, double seconds, int perFrame,
+                             double tolerance, Status& st)
+{
+  HairParameters p = HairParameters::preset(HairType::Smooth);
+  p.curvatureVariation = 0;
+  p.internalFriction = 0;
+  p.airFriction = air;
+  StrandSpec spec = StrandSpec::uniform(0.3, 10, p);
+  spec.integrator = integrator;
+  SuperHelix h;
+  IntegratorRun r;
+  if (st = h.initialize(spec); !st)
+    return r;
+  const double g0 = h.energy().gravitational;
+  const double dt = 1.0 / (30 * perFrame);
+  r.tips.push_back(h.position(0.3));
+  const auto start = std::chrono::steady_clock::now();
+  const long frames = std::lround(seconds * 30);
+  for (long f = 0; f < frames; ++f)
+  {
+    for (int k = 0; k < perFrame; ++k)
+    {
+      if (st = h.advance(dt, tolerance * dt); !st)
+        return r;
+      r.steps += h.lastSubsteps();
+      r.rejected += h.lastRejected();
+      r.firstOrder += h.lastFirstOrder();
+    }
+    r.tips.push_back(h.position(0.3));
+  }
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.residualShare = h.energy().total.residual / (g0 - h.energy().gravitational);
+  return r;
+}
+
+int integrator(const Arguments& args)
+{
+  int quick = 0, demo = 0, guides = 0;
+  double seconds = 0;
+  std::ofstream out;
+  Status s = args.integer("quick", 0, 0, 1, quick);
+  if (s)
+    s = args.integer("demo", 0, 0, 1, demo);
+  if (s)
+    s = args.integer("guides", 200, 1, 10000, guides);
+  if (s)
+    s = args.number("seconds", 5, 1.0 / 30, 100, seconds);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study integrator: " << s.message() << "\n";
+    return 2;
+  }
+  out << "case,integrator,dt_s,tolerance_m_per_s,figure,value,steps,rejected,first_order,wall_s\n";
+  const Integrator both[] = {Integrator::SemiImplicit, Integrator::Midpoint};
+  auto row = [&](const char* what, Integrator in, double dt, double tol, const char* figure,
+                 double value, const IntegratorRun& r)
+  {
+    out << what << "," << toString(in) << "," << dt << "," << tol << "," << figure << "," << value
+        << "," << r.steps << "," << r.rejected << "," << r.firstOrder << "," << r.wall << "\n";
+  };
+  auto fail = [&](const Status& st)
+  {
+    std::cerr << "hair_study integrator: " << st.message() << "\n";
+    return 1;
+  };
+  const std::vector<int> perFrame =
+      quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128};
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      Status st;
+      const IntegratorRun r = releasedStrand(in, 0, 2, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("release", in, 1.0 / (30 * per), 0, "residual_share", r.residualShare, r);
+    }
+  Status st;
+  const IntegratorRun ref = releasedStrand(Integrator::Midpoint, 1e-5, 1, 256, 0, st);
+  if (!st)
+    return fail(st);
+  auto tipError = [&](const IntegratorRun& r)
+  {
+    double e = 0;
+    for (size_t i = 0; i < r.tips.size() && i < ref.tips.size(); ++i)
+      e = std::max(e, (r.tips[i] - ref.tips[i]).norm());
+    return e;
+  };
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      if (per > 64)
+        continue;
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("tip", in, 1.0 / (30 * per), 0, "tip_error_m", tipError(r), r);
+    }
+  const std::vector<double> tolerances = quick
+                                             ? std::vector<double>{0.05, 0.005}
+                                             : std::vector<double>{0.05, 0.02, 0.01, 0.005, 0.002};
+  for (Integrator in : both)
+    for (double tol : tolerances)
+    {
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, 1, tol, st);
+      if (!st)
+        return fail(st);
+      row("tolerance", in, 1.0 / 30, tol, "tip_error_m", tipError(r), r);
+    }
+  if (!demo)
+    return 0;
+  BundledBody body;
+  if (st = loadBundledBody(HAIR_DATA_DIR, body); !st)
+    return fail(st);
+  std::vector<GuideStrand> demoStrands;
+  if (st = demoGuides(body, guides, 10, demoStrands); !st)
+    return fail(st);
+  for (int contacts : {1, 0})
+    for (Integrator in : both)
+      for (double tol : {0.0, 0.005})
+      {
+        SimulationOptions o;
+        o.threads = 1;
+        o.superHelix.integrator = in;
+        o.superHelix.tolerance = tol;
+        o.superHelix.contacts.enabled = contacts != 0;
+        Simulation sim;
+        if (st = sim.initialize(demoStrands, demoScene(body), o); !st)
+          return fail(st);
+        const auto start = std::chrono::steady_clock::now();
+        if (st = sim.advanceTo(static_cast<int>(std::lround(seconds * 30)) + 1); !st)
+          return fail(st);
+        IntegratorRun r;
+        r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::vector<double> times;
+        std::map<std::string, std::vector<double>> c;
+        sim.energyTable(times, c);
+        double residual = 0, work = 0, substeps = 0, rejected = 0, firstOrder = 0;
+        for (size_t i = 0; i < times.size(); ++i)
+        {
+          const double w = -(c["gravitational"][i] - c["gravitational"][0]) + c["root_work"][i] +
+                           c["wind_work"][i] + c["contact_work"][i];
+          residual = std::max(residual, std::abs(c["residual"][i]));
+          work = std::max(work, std::abs(w));
+          substeps += c["substeps"][i];
+          rejected += c["rejected_substeps"][i];
+          firstOrder += c["first_order_share"][i] * c["substeps"][i];
+        }
+        // Per strand and simulated second.
+        r.steps = std::lround(substeps / seconds);
+        r.rejected = std::lround(rejected / seconds);
+        r.firstOrder = std::lround(firstOrder / seconds);
+        r.wall /= seconds;
+        row(contacts ? "demo_contacts" : "demo_no_contacts", in, 1.0 / 30, tol, "closure",
+            residual / work, r);
+      }
+  return 0;
+}
+
 int usage()
 {
-  std::cerr << "usage: hair_study <convergence|buckling|release|scene|clump> out=<file> "
+  std::cerr << "usage: hair_study <convergence|buckling|release|scene|integrator|clump> out=<file> "
                "[key=value ...]\n"
                "  convergence [ns=1,2,...,40] [length=0.1]\n"
                "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
@@ -678,6 +865,7 @@ int usage()
                "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
                "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
                "              (out=<file>.h5)\n"
+               "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
                "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
                "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
                "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
@@ -697,6 +885,7 @@ int main(int argc, char** argv)
        {"buckling", {{"out", "n", "loads", "tilt", "length", "dt", "maxsteps", "tol"}, buckling}},
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
+       {"integrator", {{"out", "quick", "demo", "guides", "seconds"}, integrator}},
        {"clump",
         {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
           "contacts", "perlength", "reflength", "amplitude", "frequency"},
