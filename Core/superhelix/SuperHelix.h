@@ -171,8 +171,10 @@ public:
   void reconstruct();              ///< kinematics and the air's velocity at every sample (time())
   void assemble();                 ///< M and the explicit generalized force f
   void assembleVelocityJacobian(); ///< C = ∂f/∂q̇ (after assemble)
-  void assembleTensionStiffness(double h);            ///< K_T for a step h (after assemble)
-  Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
+  void assembleTensionStiffness(double h); ///< K_T for a step h (after assemble)
+  /// The linear system of the step (outside a step the semi-implicit one; while the
+  /// second-order step is taken, its own at the predicted midpoint).
+  Status solve(double dt, Eigen::VectorXd& qdotNext);
   const Eigen::MatrixXd& massMatrix() const;
   const Eigen::VectorXd& generalizedForce() const { return F; }
   const Eigen::MatrixXd& velocityJacobian() const;
