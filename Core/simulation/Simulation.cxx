@@ -22,6 +22,7 @@ struct Simulation::Impl
   FrameStore Store;
   std::vector<long> Contacts;
   std::vector<double> Depth;
+  std::vector<std::map<std::string, double>> Steps; ///< the model's stepStatistics per frame
   Status Failed; ///< set when a step failed: the strands may then be at different times
 
   /// The model's state now as a frame, with the penetration into the scene's parts at the
@@ -36,6 +37,7 @@ StateFrame Simulation::Impl::record()
   Model->writeFrame(f);
   f.time = Model->time();
   f.energy = Model->energy().values();
+  Steps.push_back(Model->stepStatistics());
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
   std::vector<double>& depthOf = f.pointData["contact_depth"];
@@ -288,6 +290,10 @@ void Simulation::energyTable(std::vector<double>& times,
     }
     columns["nodes_inside"].push_back(static_cast<double>(P->Contacts[f]));
     columns["max_depth"].push_back(P->Depth[f]);
+    for (const auto& [name, value] : P->Steps[f])
+    {
+      columns[name].push_back(value);
+    }
   }
 }
 

@@ -91,8 +91,10 @@ public:
   /// deepest of them (m).
   const std::vector<long>& contacts() const;
   const std::vector<double>& maxDepth() const;
-  /// One row per frame so far: the frames' times and, by column, every energy term and the
-  /// penetration ("nodes_inside", "max_depth").
+  /// One row per frame so far: the frames' times and, by column, every energy term, the
+  /// penetration ("nodes_inside", "max_depth") and the model's step statistics since the
+  /// previous frame (StrandModel::stepStatistics; the Super-Helix model: "substeps",
+  /// "rejected_substeps", "first_order_share", "error_estimate"; zero in frame 0).
   void energyTable(std::vector<double>& times,
                    std::map<std::string, std::vector<double>>& columns) const;
   /// The model being run (for tests and studies that look inside it).
