@@ -1,0 +1,78 @@
+#pragma once
+// A sag-free rest shape for a Super-Helix (inverse statics; after Derouet-Jourdan,
+// Bertails-Descoubes and Thollot, "Stable inverse dynamic curves", ACM TOG 29(6), 2010):
+// the natural curvatures and twist q_rest chosen so that a given shape q is a static
+// equilibrium under gravity and the body's contacts,
+//     𝕂 (q − q_rest) = f(q)      ⇒      q_rest = q − 𝕂⁻¹ f(q),
+// with f the generalized force of gravity and of the contacts at q (at rest, the body
+// still). Whether the equilibrium is stable does not depend on q_rest at all: the Hessian of
+// the potential, H = 𝕂 + ∇²V_gravity(q) + (contact stiffness), has no q_rest in it. So a
+// shape that is unstable (H not positive definite, e.g. a long strand held out sideways,
+// which lowers its weight by twisting over) can be held by no natural shape; nor can one
+// whose q_rest curls tighter than the fibre's radius (the bending limit of the step). Those
+// get the closest stable shape instead: the equilibrium the strand settles into from the
+// given shape, with its rest shape made exactly balanced there. docs/super-helix.md,
+// "Sag-free rest shape".
+#include "common/Status.h"
+#include "contact/ContactResponse.h"
+#include "superhelix/SuperHelix.h"
+
+#include <Eigen/Core>
+
+#include <string>
+
+namespace hair
+{
+
+/// What became of a strand's rest shape (the state file's /groom/rest_status).
+enum class RestOutcome
+{
+  AsGrown = 0,      ///< the model's own natural shape (no sag-free asked)
+  Held = 1,         ///< sag-free: the given shape is a stable equilibrium
+  Unstable = 2,     ///< no natural shape makes the given shape stable: closest stable one
+  BeyondBending = 3 ///< the balancing rest shape curls tighter than 1/radius: closest one
+};
+const char* toString(RestOutcome outcome);
+
+struct SagFreeOptions
+{
+  /// Stable when the smallest eigenvalue of H exceeds this fraction of the largest entry of
+  /// 𝕂: a margin well above the round-off of H's finite differences (~1e-9 of it).
+  double stabilityMargin = 1e-6;
+  /// The settling of a shape that cannot be held: steps of `relaxStep` with the air's drag
+  /// raised to `relaxDamping` × ρS (a damping rate in 1/s; it changes no equilibrium), for
+  /// at most `relaxTime`, until no element turns faster than `settledRate` (rad/s).
+  double relaxStep = 1.0 / 30;
+  double relaxTime = 30;
+  double relaxDamping = 10;
+  double settledRate = 1e-6;
+};
+
+struct SagFreeResult
+{
+  Eigen::VectorXd rest;  ///< q_rest, 3N values
+  Eigen::VectorXd start; ///< the shape to start from: the given one, or the closest stable one
+  RestOutcome outcome = RestOutcome::Held;
+  /// Largest distance between the given shape and `start`, at 8 points per element [m].
+  double deviation = 0;
+  /// Smallest eigenvalue of H at `start` over the largest entry of 𝕂 (> margin: stable).
+  double stability = 0;
+  /// |𝕂 (start − rest) − f(start)| / |f(start)|: round-off when the balance is exact.
+  double imbalance = 0;
+  std::string reason; ///< for Unstable and BeyondBending: what cannot be held, in words
+};
+
+/// The sag-free rest shape of the strand `spec` (its hair, element lengths, gravity, tip
+/// force and root pose at t = 0, held still; its wind is not part of the balance) in the
+/// shape `shape` (3N values), against `contacts` (the body's response with the body at rest,
+/// called with the strand's id and t = 0; empty: none).
+Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const ContactForces& contacts,
+               const SagFreeOptions& options, SagFreeResult& result);
+
+/// H = 𝕂 + ∇²V (gravity by central differences of the generalized force, contacts from
+/// their stiffness) of `spec` held still in `shape`, and f(shape): what sagFree balances and
+/// tests (exposed for the tests).
+Status restHessian(const StrandSpec& spec, const Eigen::VectorXd& shape,
+                   const ContactForces& contacts, Eigen::MatrixXd& hessian, Eigen::VectorXd& force);
+
+} // namespace hair
