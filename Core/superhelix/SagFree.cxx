@@ -15,22 +15,6 @@
 namespace hair
 {
 
-const char* toString(RestOutcome outcome)
-{
-  switch (outcome)
-  {
-  case RestOutcome::AsGrown:
-    return "as grown";
-  case RestOutcome::Held:
-    return "held";
-  case RestOutcome::Unstable:
-    return "unstable";
-  case RestOutcome::BeyondBending:
-    return "beyond the bending limit";
-  }
-  return "unknown";
-}
-
 namespace
 {
 

@@ -15,6 +15,7 @@
 // "Sag-free rest shape".
 #include "common/Status.h"
 #include "contact/ContactResponse.h"
+#include "model/GroomReport.h"
 #include "superhelix/SuperHelix.h"
 
 #include <Eigen/Core>
@@ -23,30 +24,6 @@
 
 namespace hair
 {
-
-/// What became of a strand's rest shape (the state file's /groom/rest_status).
-enum class RestOutcome
-{
-  AsGrown = 0,      ///< the model's own natural shape (no sag-free asked)
-  Held = 1,         ///< sag-free: the given shape is a stable equilibrium
-  Unstable = 2,     ///< no natural shape makes the given shape stable: closest stable one
-  BeyondBending = 3 ///< the balancing rest shape curls tighter than 1/radius: closest one
-};
-const char* toString(RestOutcome outcome);
-
-struct SagFreeOptions
-{
-  /// Stable when the smallest eigenvalue of H exceeds this fraction of the largest entry of
-  /// 𝕂: a margin well above the round-off of H's finite differences (~1e-9 of it).
-  double stabilityMargin = 1e-6;
-  /// The settling of a shape that cannot be held: steps of `relaxStep` with the air's drag
-  /// raised to `relaxDamping` × ρS (a damping rate in 1/s; it changes no equilibrium), for
-  /// at most `relaxTime`, until no element turns faster than `settledRate` (rad/s).
-  double relaxStep = 1.0 / 30;
-  double relaxTime = 30;
-  double relaxDamping = 10;
-  double settledRate = 1e-6;
-};
 
 struct SagFreeResult
 {
