@@ -4,6 +4,7 @@
 
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
+#include "io/StateGroom.h"
 
 #include <algorithm>
 #include <fstream>
@@ -191,6 +192,7 @@ Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
   }
   readStrandParameters(f, header);
   readStrandVectors(f, header);
+  detail::readGroom(f, header);
   return Status::Ok();
 }
 

@@ -1,5 +1,7 @@
 #include "strands/GuideCurves.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
