@@ -11,9 +11,9 @@ namespace hair
 /// What became of a strand's rest shape (the state file's /groom/rest_status).
 enum class RestOutcome
 {
-  AsGrown = 0,      ///< the model's own natural shape (no sag-free asked)
-  Held = 1,         ///< sag-free: the strand's shape at t = 0 is a stable equilibrium
-  Unstable = 2,     ///< no natural shape makes the shape stable: the closest stable one is used
+  AsGrown = 0,  ///< the model's own natural shape (no sag-free asked)
+  Held = 1,     ///< sag-free: the shape is a stable equilibrium (resting on the body if pressed in)
+  Unstable = 2, ///< no natural shape makes the shape stable: the closest stable one is used
   BeyondBending = 3 ///< the balancing rest shape curls tighter than the fibre allows: closest one
 };
 const char* toString(RestOutcome outcome);
@@ -27,8 +27,8 @@ struct GroomReport
   /// Largest distance between the shape asked for (the fit, or the grown shape) and the shape
   /// the strand starts in [m]: 0 unless the closest stable shape replaced it.
   double deviation = 0;
-  /// The smallest eigenvalue of the potential's Hessian at the start shape over the largest
-  /// stiffness (> 0: stable), for a sag-free strand; 0 otherwise.
+  /// The smallest eigenvalue of the potential's Hessian at the shape asked for over the
+  /// largest stiffness (> 0: stable), for a sag-free strand; 0 otherwise.
   double stability = 0;
   /// For Unstable and BeyondBending: why, in words.
   std::string reason;

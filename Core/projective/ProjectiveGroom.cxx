@@ -323,16 +323,16 @@ Status projectiveSagFree(ProjectiveStrands& sim, int s, const SagFreeOptions& o,
     }
     hessian(sim, s, r.start, H, Q);
     r.rest = balanced(r.start, Q);
-    r.report.stability = smallest(H, nullptr);
+    const double settledStability = smallest(H, nullptr);
     r.report.deviation = best;
     why << "; the closest stable shape, " << best << " m from it at most, is used";
     if (!settled)
     {
       why << " (" << failure << ")";
     }
-    if (!(r.report.stability > o.stabilityMargin))
+    if (!(settledStability > o.stabilityMargin))
     {
-      why << "; it is not stable either (" << r.report.stability << ")";
+      why << "; it is not stable either (" << settledStability << ")";
     }
     r.report.reason = why.str();
   }

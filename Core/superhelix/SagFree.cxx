@@ -33,18 +33,22 @@ StrandSpec stillSpec(const StrandSpec& spec)
   return s;
 }
 
-/// f(q) of the strand at rest in `q` (gravity, tip force, contacts) and, when asked, the
-/// contacts' stiffness Σ w Jᵀ K J.
+/// f(q) of the strand at rest in `q`: gravity and the tip force, and the contacts' forces
+/// summed through the Jacobian at the quadrature samples. With `columns`, the contacts are
+/// left out of f and given instead as one column w Jᵀ n per sample in contact (n the unit
+/// direction of its force) with the force's magnitude in `magnitudes`.
 void restForce(SuperHelix& h, const Eigen::VectorXd& q, const ContactForces& contacts,
-               Eigen::VectorXd& f, Eigen::MatrixXd* contactStiffness)
+               Eigen::VectorXd& f, Eigen::MatrixXd* columns = nullptr,
+               Eigen::VectorXd* magnitudes = nullptr)
 {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(q.size());
   h.setState(q, zero);
   h.assemble();
   f = h.generalizedForce();
-  if (contactStiffness)
+  if (columns)
   {
-    contactStiffness->setZero(q.size(), q.size());
+    columns->resize(q.size(), 0);
+    magnitudes->resize(0);
   }
   if (!contacts)
   {
@@ -53,33 +57,97 @@ void restForce(SuperHelix& h, const Eigen::VectorXd& q, const ContactForces& con
   const std::vector<StrandSample>& samples = h.samples();
   std::vector<ContactResponse> response(samples.size());
   contacts(h.spec().id, h.time(), samples, response);
+  std::vector<Eigen::VectorXd> cols;
+  std::vector<double> mags;
   for (std::size_t i = 0; i < samples.size() && i < response.size(); ++i)
   {
-    const ContactResponse& c = response[i];
-    const bool force = !c.force.isZero(0), stiff = contactStiffness && !c.stiffness.isZero(0);
-    if (!force && !stiff)
+    const Eigen::Vector3d& c = response[i].force;
+    if (c.isZero(0))
     {
       continue;
     }
     const Eigen::Matrix3Xd J = h.jacobian(samples[i].s);
-    if (force)
+    if (columns)
     {
-      f.noalias() += samples[i].weight * (J.transpose() * c.force);
+      cols.push_back(samples[i].weight * (J.transpose() * c.normalized()));
+      mags.push_back(c.norm());
     }
-    if (stiff)
+    else
     {
-      *contactStiffness += samples[i].weight * (J.transpose() * c.stiffness * J);
+      f.noalias() += samples[i].weight * (J.transpose() * c);
+    }
+  }
+  if (columns)
+  {
+    columns->resize(q.size(), static_cast<Eigen::Index>(cols.size()));
+    magnitudes->resize(static_cast<Eigen::Index>(mags.size()));
+    for (std::size_t i = 0; i < cols.size(); ++i)
+    {
+      columns->col(static_cast<Eigen::Index>(i)) = cols[i];
+      (*magnitudes)(static_cast<Eigen::Index>(i)) = mags[i];
     }
   }
 }
 
-/// H = 𝕂 + K_contact − ∂f_gravity/∂q (symmetrized) at q.
+/// The contact forces the body carries the strand with: λ in [0, λmax] per sample in contact
+/// (λmax the penalty's force at the given shape) minimizing the prestress the rest shape must
+/// hold, ½ |f_g + C λ|²_{𝕂⁻¹} (C the columns w Jᵀ n): where the strand rests on the body,
+/// the body carries its weight, not its stiffness. Coordinate descent on the box-constrained
+/// convex quadratic (each step exact in its coordinate), until no force changes by more than
+/// 1e-12 of the largest bound.
+Eigen::VectorXd carriedContacts(const Eigen::VectorXd& fg, const Eigen::MatrixXd& C,
+                                const Eigen::VectorXd& lambdaMax, const Eigen::VectorXd& K)
+{
+  const Eigen::Index n = C.cols();
+  Eigen::VectorXd lambda = lambdaMax; // the penalty's own forces: the exact balance at the shape
+  if (n == 0)
+  {
+    return lambda;
+  }
+  const Eigen::VectorXd Kinv = K.cwiseInverse();
+  Eigen::VectorXd r = fg + C * lambda; // f(λ)
+  Eigen::VectorXd a(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+  {
+    a(i) = C.col(i).cwiseProduct(Kinv).dot(C.col(i));
+  }
+  const double tol = 1e-12 * lambdaMax.maxCoeff();
+  for (int sweep = 0; sweep < 2000; ++sweep)
+  {
+    double change = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+    {
+      if (!(a(i) > 0))
+      {
+        continue;
+      }
+      const double g = C.col(i).cwiseProduct(Kinv).dot(r);
+      const double next = std::clamp(lambda(i) - g / a(i), 0.0, lambdaMax(i));
+      const double d = next - lambda(i);
+      if (d != 0)
+      {
+        r.noalias() += d * C.col(i);
+        lambda(i) = next;
+        change = std::max(change, std::abs(d));
+      }
+    }
+    if (change <= tol)
+    {
+      break;
+    }
+  }
+  return lambda;
+}
+
+/// H = 𝕂 − ∂f_g/∂q (symmetrized; gravity and the tip force by central differences) + the
+/// contacts' stiffness Σ w Jᵀ K J as their response gives it, at q; f the rest force with the
+/// contacts. The turning of the contacts' normals over the body (λ ∂n/∂x, of relative size
+/// λ / (k R) ~ 1e-4 against the normal stiffness for a resting strand on the head) is left
+/// out: differences across the table's cells and the edge of the contact layer would swamp it.
 void hessian(SuperHelix& h, const Eigen::VectorXd& q, const ContactForces& contacts,
              Eigen::MatrixXd& H, Eigen::VectorXd& f)
 {
   const int m = static_cast<int>(q.size());
-  Eigen::MatrixXd Kc;
-  restForce(h, q, contacts, f, &Kc);
   Eigen::MatrixXd G(m, m);
   Eigen::VectorXd fp, fm;
   for (int j = 0; j < m; ++j)
@@ -90,13 +158,29 @@ void hessian(SuperHelix& h, const Eigen::VectorXd& q, const ContactForces& conta
     Eigen::VectorXd qp = q, qm = q;
     qp(j) += eps;
     qm(j) -= eps;
-    restForce(h, qp, ContactForces(), fp, nullptr);
-    restForce(h, qm, ContactForces(), fm, nullptr);
+    restForce(h, qp, ContactForces(), fp);
+    restForce(h, qm, ContactForces(), fm);
     G.col(j) = -(fp - fm) / (2 * eps);
   }
-  H = 0.5 * (G + G.transpose()) + Kc;
+  H = 0.5 * (G + G.transpose());
   H.diagonal() += h.stiffnessDiagonal();
-  h.setState(q, Eigen::VectorXd::Zero(m));
+  restForce(h, q, contacts, f);
+  if (!contacts)
+  {
+    return;
+  }
+  const std::vector<StrandSample>& samples = h.samples();
+  std::vector<ContactResponse> response(samples.size());
+  contacts(h.spec().id, h.time(), samples, response);
+  for (std::size_t i = 0; i < samples.size() && i < response.size(); ++i)
+  {
+    if (!response[i].stiffness.isZero(0))
+    {
+      const Eigen::Matrix3Xd J = h.jacobian(samples[i].s);
+      const Eigen::Matrix3d S = 0.5 * (response[i].stiffness + response[i].stiffness.transpose());
+      H.noalias() += samples[i].weight * (J.transpose() * S * J);
+    }
+  }
 }
 
 /// Largest distance between two shapes of the same strand, at 8 points per element.
@@ -201,9 +285,9 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
   }
   const Eigen::VectorXd& K = h.stiffnessDiagonal();
   const double kMax = K.maxCoeff();
-  const double limit = 1.0 / spec.hair.radius;
-  Eigen::MatrixXd H;
-  Eigen::VectorXd f;
+  // A rest shape may curl at most to twice the fibre's radius: half the step's limit
+  // (1/radius), so that the motion about it has room before the step refuses it.
+  const double limit = 0.5 / spec.hair.radius;
   auto smallest = [&](const Eigen::MatrixXd& A, Eigen::VectorXd* vector)
   {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
@@ -213,28 +297,49 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     }
     return eig.eigenvalues()(0) / kMax;
   };
+  auto balanced = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& f)
+  { return Eigen::VectorXd(q - (f.array() / K.array()).matrix()); };
+  auto tightestElement = [&](const Eigen::VectorXd& rest, double& tightness)
+  {
+    int tightest = -1;
+    tightness = 0;
+    for (int e = 0; e < h.elementCount(); ++e)
+    {
+      const double k = rest.segment<3>(3 * e).norm();
+      if (k > limit && k > tightness)
+      {
+        tightest = e;
+        tightness = k;
+      }
+    }
+    return tightest;
+  };
 
+  // The balance at the shape, the body carrying what it can (carriedContacts).
   SagFreeResult r;
-  hessian(h, shape, contacts, H, f);
-  r.rest = shape - (f.array() / K.array()).matrix();
+  Eigen::VectorXd fg, lambdaMax;
+  Eigen::MatrixXd C;
+  restForce(h, shape, contacts, fg, &C, &lambdaMax);
+  const Eigen::VectorXd lambda = carriedContacts(fg, C, lambdaMax, K);
+  r.rest = balanced(shape, fg + C * lambda);
   r.start = shape;
+  Eigen::MatrixXd H;
+  Eigen::VectorXd f;
+  hessian(h, shape, contacts, H, f);
   Eigen::VectorXd mode;
   r.stability = smallest(H, &mode);
-  int tightest = -1;
   double tightness = 0;
-  for (int e = 0; e < h.elementCount(); ++e)
-  {
-    const double k = r.rest.segment<3>(3 * e).norm();
-    if (k > limit && k > tightness)
-    {
-      tightest = e;
-      tightness = k;
-    }
-  }
+  const int tightest = tightestElement(r.rest, tightness);
+  // Pressed into the body harder than its load needs (a groom taken from motion): the
+  // penalty there pushes it out, so the shape itself is not the equilibrium; the strand
+  // settles onto the body, a little off the shape.
+  const bool pressed =
+      lambda.size() > 0 && (lambdaMax - lambda).maxCoeff() > 1e-9 * lambdaMax.maxCoeff();
   const bool stable = r.stability > o.stabilityMargin;
-  if (stable && tightest < 0)
+  if (stable && tightest < 0 && !pressed)
   {
     r.outcome = RestOutcome::Held;
+    r.rest = balanced(shape, f); // the same balance, with the contacts' forces as they are
   }
   else
   {
@@ -245,19 +350,19 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     {
       r.outcome = RestOutcome::BeyondBending;
       why << "holding this shape needs a natural curvature of " << tightness << " 1/m in element "
-          << tightest << ", tighter than 1/radius = " << limit
-          << " 1/m (its stiffness cannot carry its weight there)";
+          << tightest << ", tighter than the fibre can curl (" << limit
+          << " 1/m, half of 1/radius): its stiffness cannot carry its weight there";
       for (int e = 0; e < h.elementCount(); ++e)
       {
         const double k = rest.segment<3>(3 * e).norm();
         if (k > limit)
         {
-          rest.segment<3>(3 * e) *= (1 - 1e-9) * limit / k;
+          rest.segment<3>(3 * e) *= limit / k;
         }
       }
       starts.push_back(shape);
     }
-    else
+    else if (!stable)
     {
       r.outcome = RestOutcome::Unstable;
       why << "this shape is balanced by a natural shape but not stable (the Hessian's smallest "
@@ -275,8 +380,13 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
       starts.push_back(shape + push);
       starts.push_back(shape - push);
     }
-    // The closest stable shape: where the strand settles from the given one with this rest
-    // shape, the nearer of the two pushes.
+    else
+    {
+      r.outcome = RestOutcome::Held; // held, resting on the body instead of in it
+      starts.push_back(shape);
+    }
+    // Where the strand settles from the shape with this rest shape (the nearer of the two
+    // pushes): the closest stable equilibrium.
     double best = std::numeric_limits<double>::infinity();
     std::string failure;
     bool settled = false;
@@ -294,9 +404,9 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
         failure = fail;
       }
     }
-    // Its rest shape exactly balanced there (it was only nearly: settling stops at a rate).
+    // Its rest shape exactly balanced there (settling stops at a rate, not at zero).
     hessian(h, r.start, contacts, H, f);
-    r.rest = r.start - (f.array() / K.array()).matrix();
+    r.rest = balanced(r.start, f);
     if (r.outcome == RestOutcome::BeyondBending)
     {
       for (int e = 0; e < h.elementCount(); ++e)
@@ -304,24 +414,31 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
         const double k = r.rest.segment<3>(3 * e).norm();
         if (k > limit)
         {
-          r.rest.segment<3>(3 * e) *= (1 - 1e-9) * limit / k;
+          r.rest.segment<3>(3 * e) *= limit / k;
         }
       }
     }
-    r.stability = smallest(H, nullptr);
+    const double settledStability = smallest(H, nullptr);
     r.deviation = best;
-    why << "; the closest stable shape, " << best << " m from it at most, is used";
+    if (r.outcome != RestOutcome::Held)
+    {
+      why << "; the closest stable shape, " << best << " m from it at most, is used";
+    }
+    else
+    {
+      why << "resting on the body rather than pressed into it, " << best << " m from the shape";
+    }
     if (!settled)
     {
       why << " (" << failure << ")";
     }
-    if (!(r.stability > o.stabilityMargin))
+    if (!(settledStability > o.stabilityMargin))
     {
-      why << "; it is not stable either (" << r.stability << ")";
+      why << "; it is not stable either (" << settledStability << ")";
     }
     r.reason = why.str();
   }
-  restForce(h, r.start, contacts, f, nullptr);
+  restForce(h, r.start, contacts, f);
   const double fn = f.norm();
   r.imbalance = fn > 0 ? ((K.array() * (r.start - r.rest).array()).matrix() - f).norm() / fn : 0.0;
   result = std::move(r);

@@ -198,7 +198,13 @@ TEST(GroomSagFree, ShapesThatCannotBeHeldGetTheClosestStableOne)
   ASSERT_TRUE(sagFree(spec, Eigen::VectorXd::Zero(3 * n), ContactForces(), SagFreeOptions(), r));
   EXPECT_EQ(r.outcome, RestOutcome::Unstable);
   EXPECT_NE(r.reason.find("not stable"), std::string::npos) << r.reason;
-  EXPECT_GT(r.stability, SagFreeOptions().stabilityMargin);
+  EXPECT_LT(r.stability, 0); // the shape asked for
+  Eigen::MatrixXd H;
+  Eigen::VectorXd f;
+  ASSERT_TRUE(restHessian(spec, r.start, ContactForces(), H, f)); // the shape used instead
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(H).eigenvalues()(0) /
+                H.diagonal().maxCoeff(),
+            SagFreeOptions().stabilityMargin);
   EXPECT_GT(r.deviation, 0.05);
   EXPECT_LT(r.imbalance, 1e-12);
   StrandSpec held = spec;
