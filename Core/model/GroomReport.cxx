@@ -14,7 +14,7 @@ const char* toString(RestOutcome outcome)
   case RestOutcome::Unstable:
     return "unstable";
   case RestOutcome::BeyondBending:
-    return "beyond the bending limit";
+    return "beyond the elastic range";
   }
   return "unknown";
 }

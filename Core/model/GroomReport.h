@@ -14,7 +14,7 @@ enum class RestOutcome
   AsGrown = 0,  ///< the model's own natural shape (no sag-free asked)
   Held = 1,     ///< sag-free: the shape is a stable equilibrium (resting on the body if pressed in)
   Unstable = 2, ///< no natural shape makes the shape stable: the closest stable one is used
-  BeyondBending = 3 ///< the balancing rest shape curls tighter than the fibre allows: closest one
+  BeyondBending = 3 ///< holding the shape strains the fibre past its elastic range: closest one
 };
 const char* toString(RestOutcome outcome);
 
@@ -45,6 +45,11 @@ struct SagFreeOptions
   /// the projective model keeps its own) with a damping rate raised to `relaxDamping` (1/s;
   /// it changes no equilibrium), for at most `relaxTime`, until no element or segment turns
   /// faster than `settledRate` (rad/s).
+  /// The largest strain at the fibre's surface a rest shape's prestress may reach (the
+  /// bending and twist it holds, |q − q_rest| times the fibre's radius): hair is elastic to
+  /// about 2 % (the Hookean region of its stress–strain curve; C. R. Robbins, Chemical and
+  /// Physical Behavior of Human Hair, 5th ed., Springer 2012, ch. 9), beyond that it yields.
+  double elasticStrain = 0.02;
   double relaxStep = 1.0 / 30;
   double relaxTime = 30;
   double relaxDamping = 10;

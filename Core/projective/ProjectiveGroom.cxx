@@ -275,6 +275,26 @@ Status projectiveSagFree(ProjectiveStrands& sim, int s, const SagFreeOptions& o,
     return rest;
   };
 
+  // The hinges' prestress κ (q − q⁰) bends the fibre by |q − q⁰| / d: at its surface the
+  // strain |q − q⁰| r / d may not pass hair's elastic range (options.elasticStrain).
+  const double radius = 0.5 * sim.material(s).dragDiameter;
+  const double limit = radius > 0 ? o.elasticStrain * sim.segmentLength(s) / radius
+                                  : std::numeric_limits<double>::infinity(); // on |Δq|
+  auto withinLimit =
+      [&](const std::vector<Eigen::Vector2d>& q, const std::vector<Eigen::Vector2d>& rest)
+  {
+    std::vector<Eigen::Vector2d> out = rest;
+    for (std::size_t i = 0; i < q.size(); ++i)
+    {
+      const Eigen::Vector2d d = q[i] - rest[i];
+      if (d.norm() > limit)
+      {
+        out[i] = q[i] - (limit / d.norm()) * d;
+      }
+    }
+    return out;
+  };
+
   ProjectiveSagFree r;
   Eigen::MatrixXd H;
   std::vector<Eigen::Vector2d> Q;
@@ -284,29 +304,58 @@ Status projectiveSagFree(ProjectiveStrands& sim, int s, const SagFreeOptions& o,
   Eigen::VectorXd mode;
   r.report.stability = smallest(H, &mode);
   r.report.outcome = RestOutcome::Held;
-  if (!(r.report.stability > o.stabilityMargin))
+  int tightest = -1;
+  double tightness = 0;
+  for (std::size_t i = 0; i < shape.size(); ++i)
   {
-    r.report.outcome = RestOutcome::Unstable;
+    const double d = (shape[i] - r.rest[i]).norm();
+    if (d > limit && d > tightness)
+    {
+      tightest = static_cast<int>(i);
+      tightness = d;
+    }
+  }
+  if (tightest >= 0 || !(r.report.stability > o.stabilityMargin))
+  {
     std::ostringstream why;
-    why << "this shape is balanced by rest angles but not stable (the Hessian's smallest "
-           "eigenvalue is "
-        << r.report.stability
-        << " of the hinge stiffness: a push makes it fall away, as a strand standing up or held "
-           "out beyond what its hinges carry does)";
+    std::vector<std::vector<Eigen::Vector2d>> starts;
+    std::vector<Eigen::Vector2d> rest = r.rest;
+    if (tightest >= 0)
+    {
+      r.report.outcome = RestOutcome::BeyondBending;
+      why << "holding this shape strains the fibre by " << 100 * o.elasticStrain * tightness / limit
+          << " % at its surface at segment " << tightest << ", beyond hair's elastic range ("
+          << 100 * o.elasticStrain << " %): its stiffness cannot carry its weight there";
+      rest = withinLimit(shape, rest);
+      starts.push_back(shape);
+    }
+    else
+    {
+      r.report.outcome = RestOutcome::Unstable;
+      why << "this shape is balanced by rest angles but not stable (the Hessian's smallest "
+             "eigenvalue is "
+          << r.report.stability
+          << " of the hinge stiffness: a push makes it fall away, as a strand standing up or "
+             "held out beyond what its hinges carry does)";
+      const double turn = mode.cwiseAbs().maxCoeff();
+      for (double sign : {1.0, -1.0})
+      {
+        std::vector<Eigen::Vector2d> from = shape;
+        for (std::size_t i = 0; i < from.size(); ++i)
+        {
+          from[i] += sign * (1e-4 / std::max(turn, 1e-300)) * mode.segment<2>(2 * i);
+        }
+        starts.push_back(from);
+      }
+    }
     double best = std::numeric_limits<double>::infinity();
     bool settled = false;
     std::string failure;
-    const double turn = mode.cwiseAbs().maxCoeff();
-    for (double sign : {1.0, -1.0})
+    for (const std::vector<Eigen::Vector2d>& from : starts)
     {
-      std::vector<Eigen::Vector2d> from = shape;
-      for (std::size_t i = 0; i < from.size(); ++i)
-      {
-        from[i] += sign * (1e-4 / std::max(turn, 1e-300)) * mode.segment<2>(2 * i);
-      }
       std::vector<Eigen::Vector2d> end;
       std::string fail;
-      const bool ok = settle(sim, s, r.rest, from, o, end, fail);
+      const bool ok = settle(sim, s, rest, from, o, end, fail);
       const std::vector<Eigen::Vector3d> nodes = chainOf(sim, s, end);
       double d = 0;
       for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -323,6 +372,10 @@ Status projectiveSagFree(ProjectiveStrands& sim, int s, const SagFreeOptions& o,
     }
     hessian(sim, s, r.start, H, Q);
     r.rest = balanced(r.start, Q);
+    if (r.report.outcome == RestOutcome::BeyondBending)
+    {
+      r.rest = withinLimit(r.start, r.rest);
+    }
     const double settledStability = smallest(H, nullptr);
     r.report.deviation = best;
     why << "; the closest stable shape, " << best << " m from it at most, is used";

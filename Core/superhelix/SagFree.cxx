@@ -285,9 +285,10 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
   }
   const Eigen::VectorXd& K = h.stiffnessDiagonal();
   const double kMax = K.maxCoeff();
-  // A rest shape may curl at most to twice the fibre's radius: half the step's limit
-  // (1/radius), so that the motion about it has room before the step refuses it.
-  const double limit = 0.5 / spec.hair.radius;
+  // The prestress q − q_rest bends (and twists) the fibre: its strain at the surface, |Δk| a
+  // (a the larger semi-axis), may not pass hair's elastic range (options.elasticStrain).
+  const double limit =
+      o.elasticStrain / (spec.hair.radius * std::sqrt(spec.hair.ellipticity)); // on |Δk|
   auto smallest = [&](const Eigen::MatrixXd& A, Eigen::VectorXd* vector)
   {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
@@ -299,13 +300,16 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
   };
   auto balanced = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& f)
   { return Eigen::VectorXd(q - (f.array() / K.array()).matrix()); };
-  auto tightestElement = [&](const Eigen::VectorXd& rest, double& tightness)
+  // The element whose prestress strains the fibre most beyond the limit (−1: none), and the
+  // rest shape with every prestress cut back to the limit.
+  auto tightestElement =
+      [&](const Eigen::VectorXd& q, const Eigen::VectorXd& rest, double& tightness)
   {
     int tightest = -1;
     tightness = 0;
     for (int e = 0; e < h.elementCount(); ++e)
     {
-      const double k = rest.segment<3>(3 * e).norm();
+      const double k = (q - rest).segment<3>(3 * e).norm();
       if (k > limit && k > tightness)
       {
         tightest = e;
@@ -313,6 +317,19 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
       }
     }
     return tightest;
+  };
+  auto withinLimit = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& rest)
+  {
+    Eigen::VectorXd out = rest;
+    for (int e = 0; e < h.elementCount(); ++e)
+    {
+      const Eigen::Vector3d d = (q - rest).segment<3>(3 * e);
+      if (d.norm() > limit)
+      {
+        out.segment<3>(3 * e) = q.segment<3>(3 * e) - (limit / d.norm()) * d;
+      }
+    }
+    return out;
   };
 
   // The balance at the shape, the body carrying what it can (carriedContacts).
@@ -329,7 +346,7 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
   Eigen::VectorXd mode;
   r.stability = smallest(H, &mode);
   double tightness = 0;
-  const int tightest = tightestElement(r.rest, tightness);
+  const int tightest = tightestElement(shape, r.rest, tightness);
   // Pressed into the body harder than its load needs (a groom taken from motion): the
   // penalty there pushes it out, so the shape itself is not the equilibrium; the strand
   // settles onto the body, a little off the shape.
@@ -349,17 +366,10 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     if (tightest >= 0)
     {
       r.outcome = RestOutcome::BeyondBending;
-      why << "holding this shape needs a natural curvature of " << tightness << " 1/m in element "
-          << tightest << ", tighter than the fibre can curl (" << limit
-          << " 1/m, half of 1/radius): its stiffness cannot carry its weight there";
-      for (int e = 0; e < h.elementCount(); ++e)
-      {
-        const double k = rest.segment<3>(3 * e).norm();
-        if (k > limit)
-        {
-          rest.segment<3>(3 * e) *= limit / k;
-        }
-      }
+      why << "holding this shape strains the fibre by " << 100 * tightness / limit * o.elasticStrain
+          << " % at its surface in element " << tightest << ", beyond hair's elastic range ("
+          << 100 * o.elasticStrain << " %): its stiffness cannot carry its weight there";
+      rest = withinLimit(shape, rest);
       starts.push_back(shape);
     }
     else if (!stable)
@@ -409,14 +419,7 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     r.rest = balanced(r.start, f);
     if (r.outcome == RestOutcome::BeyondBending)
     {
-      for (int e = 0; e < h.elementCount(); ++e)
-      {
-        const double k = r.rest.segment<3>(3 * e).norm();
-        if (k > limit)
-        {
-          r.rest.segment<3>(3 * e) *= limit / k;
-        }
-      }
+      r.rest = withinLimit(r.start, r.rest);
     }
     const double settledStability = smallest(H, nullptr);
     r.deviation = best;
