@@ -51,7 +51,7 @@ struct SagFreeOptions
   /// Physical Behavior of Human Hair, 5th ed., Springer 2012, ch. 9), beyond that it yields.
   double elasticStrain = 0.02;
   double relaxStep = 1.0 / 30;
-  double relaxTime = 30;
+  double relaxTime = 10;
   double relaxDamping = 10;
   double settledRate = 1e-6;
 };

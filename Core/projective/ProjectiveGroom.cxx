@@ -372,10 +372,9 @@ Status projectiveSagFree(ProjectiveStrands& sim, int s, const SagFreeOptions& o,
     }
     hessian(sim, s, r.start, H, Q);
     r.rest = balanced(r.start, Q);
-    if (r.report.outcome == RestOutcome::BeyondBending)
-    {
-      r.rest = withinLimit(r.start, r.rest);
-    }
+    // Within the elastic range whatever the outcome (a strand that had not settled is not
+    // balanced where it stopped).
+    r.rest = withinLimit(r.start, r.rest);
     const double settledStability = smallest(H, nullptr);
     r.report.deviation = best;
     why << "; the closest stable shape, " << best << " m from it at most, is used";

@@ -417,10 +417,9 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     // Its rest shape exactly balanced there (settling stops at a rate, not at zero).
     hessian(h, r.start, contacts, H, f);
     r.rest = balanced(r.start, f);
-    if (r.outcome == RestOutcome::BeyondBending)
-    {
-      r.rest = withinLimit(r.start, r.rest);
-    }
+    // Within the elastic range whatever the outcome: a strand that had not settled is not
+    // balanced where it stopped, and balancing it exactly there can ask for any prestress.
+    r.rest = withinLimit(r.start, r.rest);
     const double settledStability = smallest(H, nullptr);
     r.deviation = best;
     if (r.outcome != RestOutcome::Held)
