@@ -20,6 +20,7 @@
 // pictures (Scripts/groom_pictures.py). Bad input: a message on stderr and exit status 2; a
 // failed computation: exit status 1.
 #include "ProjectiveScenes.h"
+#include "collision/PosedPart.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
 #include "strands/GuideCurves.h"
@@ -277,7 +278,9 @@ int main(int argc, char** argv)
   const int afterShake = static_cast<int>(std::lround(30 * 1.2)) + 1; // the shake ends at 1.2 s
 
   out << "model,preset,strand,fit_error_m,rest_status,groom_deviation_m,stability,"
-         "sag_free_max_m,as_grown_max_m,release_max_after_m,release_final_m\n";
+         "groom_depth_m,sag_free_max_m,as_grown_max_m,release_max_after_m,release_final_m\n";
+  std::vector<PosedPart> posed;
+  still.posedParts(0, posed);
   for (const std::string& modelName : modelNames)
   {
     for (const std::string& presetName : presetNames)
@@ -356,10 +359,21 @@ int main(int argc, char** argv)
       {
         const GroomReport& r = held.reports[k];
         within += held.worst[k] <= 1e-3;
+        // How deep the groom itself lies inside the body's tables (a frame taken from motion
+        // can be pressed into the head): no strand can be held there.
+        double depth = 0;
+        for (const Eigen::Vector3d& x : target[k])
+        {
+          double d = 0;
+          if (insideDepth(posed, x, d))
+          {
+            depth = std::max(depth, d);
+          }
+        }
         out << modelName << ',' << presetName << ',' << k << ',' << r.fitError << ','
             << static_cast<int>(r.outcome) << ',' << r.deviation << ',' << r.stability << ','
-            << held.worst[k] << ',' << fallen.worst[k] << ',' << released.worst[k] << ','
-            << released.last[k] << '\n';
+            << depth << ',' << held.worst[k] << ',' << fallen.worst[k] << ',' << released.worst[k]
+            << ',' << released.last[k] << '\n';
       }
       std::cerr << modelName << " " << presetName << ": " << within << " of " << groom.size()
                 << " within 1 mm (sag-free runs " << held.seconds << " s, as grown "

@@ -332,31 +332,42 @@ Status sagFree(const StrandSpec& spec, const Eigen::VectorXd& shape, const Conta
     return out;
   };
 
-  // The balance at the shape, the body carrying what it can (carriedContacts).
+  // The balance at the shape with the contacts' forces as the body gives them there: exact,
+  // so the shape itself is the equilibrium.
   SagFreeResult r;
-  Eigen::VectorXd fg, lambdaMax;
-  Eigen::MatrixXd C;
-  restForce(h, shape, contacts, fg, &C, &lambdaMax);
-  const Eigen::VectorXd lambda = carriedContacts(fg, C, lambdaMax, K);
-  r.rest = balanced(shape, fg + C * lambda);
-  r.start = shape;
   Eigen::MatrixXd H;
   Eigen::VectorXd f;
   hessian(h, shape, contacts, H, f);
+  r.rest = balanced(shape, f);
+  r.start = shape;
   Eigen::VectorXd mode;
   r.stability = smallest(H, &mode);
   double tightness = 0;
-  const int tightest = tightestElement(shape, r.rest, tightness);
-  // Pressed into the body harder than its load needs (a groom taken from motion): the
-  // penalty there pushes it out, so the shape itself is not the equilibrium; the strand
-  // settles onto the body, a little off the shape.
-  const bool pressed =
-      lambda.size() > 0 && (lambdaMax - lambda).maxCoeff() > 1e-9 * lambdaMax.maxCoeff();
+  int tightest = tightestElement(shape, r.rest, tightness);
+  // A shape pressed into the body deeper than its load needs (a groom taken from motion) gets
+  // more from the penalty than it should carry; when that would strain the fibre past its
+  // range, the body carries only what leaves the least prestress (carriedContacts) and the
+  // strand settles onto it, a little off the shape.
+  bool pressed = false;
+  if (tightest >= 0 && contacts)
+  {
+    Eigen::VectorXd fg, lambdaMax;
+    Eigen::MatrixXd C;
+    restForce(h, shape, contacts, fg, &C, &lambdaMax);
+    const Eigen::VectorXd lambda = carriedContacts(fg, C, lambdaMax, K);
+    const Eigen::VectorXd carried = balanced(shape, fg + C * lambda);
+    double t2 = 0;
+    if (tightestElement(shape, carried, t2) < 0)
+    {
+      r.rest = carried;
+      tightest = -1;
+      pressed = true;
+    }
+  }
   const bool stable = r.stability > o.stabilityMargin;
   if (stable && tightest < 0 && !pressed)
   {
     r.outcome = RestOutcome::Held;
-    r.rest = balanced(shape, f); // the same balance, with the contacts' forces as they are
   }
   else
   {
