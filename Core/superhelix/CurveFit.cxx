@@ -421,6 +421,7 @@ double leastSquares(const std::vector<Eigen::Vector3d>& x, const std::vector<dou
 
   double mu = 1e-4;
   iterations = 0;
+  int slow = 0;
   Eigen::MatrixXd H(np, np);
   Eigen::VectorXd g(np);
   const double floor = 1e-30 * Lp * Lp * double(M);
@@ -478,7 +479,10 @@ double leastSquares(const std::vector<Eigen::Vector3d>& x, const std::vector<dou
       {
         converged = step.head(3 * n).norm() <= 1e-15 * (1 + q.norm()) &&
                     std::abs(step(np - 1)) <= 1e-15 * L && step.segment<2>(3 * n).norm() <= 1e-15;
-        converged = converged || c0 - c1 <= relativeDecrease * c0;
+        // Slow for three steps in a row: at the minimum (one slow step can be a damped step
+        // in a narrow valley).
+        slow = c0 - c1 <= relativeDecrease * c0 ? slow + 1 : 0;
+        converged = converged || slow >= 3;
         q = qn;
         F0 = Fn;
         c0 = c1;
