@@ -240,8 +240,15 @@ Status segmentsAlongCurve(const std::vector<Eigen::Vector3d>& curve, int segment
   {
     return Status::Error("segmentsAlongCurve: no chain of equal segments follows this curve.");
   }
-  chain.back() = curve.back();
-  fitError = distanceToChain(curve, chain);
+  // The last node lands on the curve's end, but for a curve that comes back near itself:
+  // there a slightly longer d makes a node jump to a later stretch of the curve, and no d puts
+  // the last node exactly at the end. The chain then ends short of it, its segments still
+  // equal, the gap counted in the fit's error.
+  if ((chain.back() - curve.back()).norm() <= 1e-9 * lo)
+  {
+    chain.back() = curve.back();
+  }
+  fitError = std::max(distanceToChain(curve, chain), (chain.back() - curve.back()).norm());
   nodes = std::move(chain);
   return Status::Ok();
 }

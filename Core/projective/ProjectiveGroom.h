@@ -19,9 +19,11 @@ namespace hair
 
 /// `segments` + 1 nodes on the polyline `curve`, from its first point to its last, each
 /// the first point of the curve at the same distance d from the one before (d found by
-/// bisection): the chain of equal segments inscribed in the curve. `fitError` receives the
-/// largest distance of the curve's points from the chain. The curve must have passed
-/// curveProblem (strands/GuideCurves.h).
+/// bisection): the chain of equal segments inscribed in the curve. (On a curve that comes
+/// back near itself no d may put the last node exactly on the end; the chain then stops short
+/// of it, its segments still equal.) `fitError` receives the largest distance of the curve's
+/// points from the chain, or of its end from the chain's end if that is larger. The curve
+/// must have passed curveProblem (strands/GuideCurves.h).
 Status segmentsAlongCurve(const std::vector<Eigen::Vector3d>& curve, int segments,
                           std::vector<Eigen::Vector3d>& nodes, double& fitError);
 
