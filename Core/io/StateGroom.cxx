@@ -39,7 +39,7 @@ Status writeGroom(hid_t file, const StateHeader& header)
   return ok ? Status::Ok() : Status::Error(std::string("cannot write ") + sf::Groom + ".");
 }
 
-void readGroom(hid_t file, StateHeader& header)
+void readGroom(hid_t file, StateHeader& header, double maxValues)
 {
   header.groom = StateGroom();
   htri_t has;
@@ -65,6 +65,15 @@ void readGroom(hid_t file, StateHeader& header)
         Handle d(H5Dopen2(group.get(), name.c_str(), H5P_DEFAULT));
         const auto dims = extent(d.get());
         const std::string path = std::string(sf::Groom) + "/" + name;
+        double values = dims.empty() ? 0.0 : 1.0;
+        for (const hsize_t n : dims)
+        {
+          values *= double(n);
+        }
+        if (values > maxValues)
+        {
+          continue;
+        }
         if (path == sf::CurveOffsets && dims.size() == 1 && dims[0] == strands + 1)
         {
           g.curveOffsets.resize(dims[0]);

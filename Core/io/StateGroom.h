@@ -14,6 +14,8 @@ namespace hair::detail
 Status writeGroom(hid_t file, const StateHeader& header);
 /// Reads /groom into header.groom when the file has it and its shapes agree with the header;
 /// leaves header.groom empty otherwise (a groom is optional: what does not fit is skipped).
-void readGroom(hid_t file, StateHeader& header);
+/// A dataset declaring more than `maxValues` values is skipped unread (the reader's bound from
+/// the file's size and the memory at hand: a damaged file cannot make it allocate more).
+void readGroom(hid_t file, StateHeader& header, double maxValues);
 
 } // namespace hair::detail
