@@ -13,7 +13,8 @@ import os
 import sys
 
 from paraview import servermanager
-from paraview.simple import (AssignViewToLayout, CreateLayout, SaveScreenshot, Show, Text)
+from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, GetColorTransferFunction,
+                             SaveScreenshot, Show, Text)
 from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 
@@ -60,14 +61,15 @@ for model in ("super-helix", "projective"):
     for hint, frame, title in ((1, "groom", f"the groom, t = 0 ({n} guides)"),
                                (5, "sag_free_end", f"sag-free, 10 s ({held} held, brown)"),
                                (6, "as_grown_end", "as grown, 10 s")):
-        view = bundled.white_view([0.9, 1.55, 1.2], [0, 1.4, 0.02], size=[600, 800])
+        view = bundled.white_view([0.62, 1.62, 0.85], [0, 1.48, 0.02], size=[600, 800])
         AssignViewToLayout(view=view, layout=layout, hint=hint)
         skin = Show(body, view)
         skin.DiffuseColor = [0.93, 0.85, 0.78]
         skin.AmbientColor = [0.93, 0.85, 0.78]
         strands = Show(polylines(model, frame), view)
-        strands.ColorArrayName = ["CELLS", "held"]
-        lut = strands.LookupTable
+        ColorBy(strands, ("CELLS", "held"))
+        strands.SetScalarBarVisibility(view, False)
+        lut = GetColorTransferFunction("held")
         lut.RGBPoints = [0, 0.2, 0.35, 0.75, 1, 0.45, 0.25, 0.1]
         lut.ColorSpace = "RGB"
         strands.LineWidth = 1.5
