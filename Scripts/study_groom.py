@@ -63,10 +63,10 @@ def main():
             sys.exit(f"{' '.join(cmd)} failed (exit status {r.returncode})")
     rows = list(csv.DictReader(open(csv_path)))
 
-    lines = ["| model | hair | strands | held (reported) | unstable | beyond elastic range | "
-             "sag-free: within 1 mm | sag-free: median | as grown: within 1 mm | as grown: median | "
-             "as grown: largest | release: back within 1 mm (of those held) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| model | hair | strands | held (reported) | held: within 1 mm | unstable: Hessian / slides | "
+             "beyond elastic range | sag-free: within 1 mm | sag-free: median | as grown: within 1 mm | "
+             "as grown: median | as grown: largest | release: back within 1 mm (of those held) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
     colours = dict(smooth="tab:blue", wavy="tab:orange", curly="tab:green", fuzzy="tab:red")
     for ax, model in zip(axes, MODELS):
@@ -78,11 +78,17 @@ def main():
             sf = np.array([float(x["sag_free_max_m"]) for x in sel])
             ag = np.array([float(x["as_grown_max_m"]) for x in sel])
             back = np.array([float(x["release_final_m"]) for x in sel])
+            stability = np.array([float(x["stability"]) for x in sel])
             held = status == 1
             n = len(sel)
+            # Unstable by the Hessian (its smallest eigenvalue at most the margin of
+            # Core/model/GroomReport.h, 1e-6) or, the Hessian positive, sliding away when pushed.
+            hessian = (status == 2) & ~(stability > 1e-6)
+            slides = (status == 2) & (stability > 1e-6)
             lines.append(
                 f"| {model} | {preset} | {n} | {held.sum()} ({100 * held.mean():.0f} %) | "
-                f"{(status == 2).sum()} | {(status == 3).sum()} | "
+                f"{(sf[held] <= 1e-3).sum()} of {held.sum()} | "
+                f"{hessian.sum()} / {slides.sum()} | {(status == 3).sum()} | "
                 f"{(sf <= 1e-3).sum()} ({100 * np.mean(sf <= 1e-3):.0f} %) | {np.nanmedian(sf) * 1e3:.3g} mm | "
                 f"{(ag <= 1e-3).sum()} ({100 * np.mean(ag <= 1e-3):.0f} %) | {np.nanmedian(ag) * 1e3:.3g} mm | "
                 f"{np.nanmax(ag) * 1e3:.3g} mm | "
