@@ -1,5 +1,6 @@
 #include "HairConversion.h"
 
+#include "model/GroomReport.h"
 #include "strands/StrandParameters.h"
 
 #include <vtkCellArray.h>
@@ -411,6 +412,22 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     }
     strands->GetCellData()->AddArray(a);
   }
+  for (const GroomReportValue& v : groomReportValues())
+  {
+    const auto it = header.groom.strandValues.find(v.file);
+    if (it == header.groom.strandValues.end())
+    {
+      continue;
+    }
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(v.array);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(it->second.size()));
+    for (std::size_t k = 0; k < it->second.size(); ++k)
+    {
+      a->SetValue(static_cast<vtkIdType>(k), it->second[k]);
+    }
+    strands->GetCellData()->AddArray(a);
+  }
   addField(strands->GetFieldData(), "Time", {frame.time});
 }
 
@@ -482,7 +499,53 @@ void fromGuides(const std::vector<GuideStrand>& guides,
     }
     cd->AddArray(a);
   }
+  vtkNew<vtkIntArray> groomed;
+  groomed->SetName(GroomedArray);
+  groomed->SetNumberOfTuples(n);
+  for (vtkIdType k = 0; k < n; ++k)
+  {
+    groomed->SetValue(k, guides[k].curve.empty() ? 0 : 1);
+  }
+  cd->AddArray(groomed);
   cd->SetActiveScalars("StrandId");
+}
+
+Status toCurves(vtkPolyData* input, std::vector<std::vector<Eigen::Vector3d>>& curves,
+                std::vector<Eigen::Vector3d>& normals)
+{
+  if (!input || input->GetNumberOfLines() == 0)
+  {
+    return Status::Error("the guide curves input has no polylines: give polylines, root first "
+                         "(e.g. a frame of Hair Simulation, or curves drawn in another tool).");
+  }
+  const vtkIdType firstLine = input->GetNumberOfVerts();
+  vtkDataArray* rootNormal = input->GetCellData()->GetArray("RootNormal");
+  if (rootNormal && (rootNormal->GetNumberOfComponents() != 3 ||
+                     rootNormal->GetNumberOfTuples() < input->GetNumberOfCells()))
+  {
+    rootNormal = nullptr;
+  }
+  curves.clear();
+  normals.clear();
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* lines = input->GetLines();
+  vtkIdType cell = firstLine;
+  for (lines->InitTraversal(); lines->GetNextCell(ids); ++cell)
+  {
+    std::vector<Eigen::Vector3d> c(static_cast<std::size_t>(ids->GetNumberOfIds()));
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+    {
+      input->GetPoint(ids->GetId(i), c[i].data());
+    }
+    curves.push_back(std::move(c));
+    if (rootNormal)
+    {
+      Eigen::Vector3d n;
+      rootNormal->GetTuple(cell, n.data());
+      normals.push_back(n);
+    }
+  }
+  return Status::Ok();
 }
 
 Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
@@ -531,10 +594,20 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
   std::vector<vtkDataArray*> parameters(table.size());
   for (std::size_t p = 0; p < table.size(); ++p)
   {
+    if (table[p].optional && !cd->GetArray(table[p].array))
+    {
+      continue; // keeps the field's default
+    }
     if (Status s = cellArray(table[p].array, 1, parameters[p]); !s)
     {
       return s;
     }
+  }
+  vtkDataArray* groomed = cd->GetArray(GroomedArray);
+  if (groomed && (groomed->GetNumberOfComponents() != 1 || groomed->GetNumberOfTuples() < cells))
+  {
+    return Status::Error(std::string("the strands input's cell array '") + GroomedArray +
+                         "' needs one value per cell: make the strands with Hair Strands.");
   }
   vtkCellArray* polylines = input->GetLines();
   vtkNew<vtkIdList> ids;
@@ -558,7 +631,18 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
     }
     for (std::size_t p = 0; p < table.size(); ++p)
     {
-      table[p].set(g, parameters[p]->GetTuple1(cell));
+      if (parameters[p])
+      {
+        table[p].set(g, parameters[p]->GetTuple1(cell));
+      }
+    }
+    if (groomed && groomed->GetTuple1(cell) == 1)
+    {
+      g.curve.resize(static_cast<std::size_t>(ids->GetNumberOfIds()));
+      for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+      {
+        input->GetPoint(ids->GetId(i), g.curve[i].data());
+      }
     }
     out.push_back(g);
   }

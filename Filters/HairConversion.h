@@ -65,9 +65,16 @@ void fromGuides(const std::vector<GuideStrand>& guides,
                 const std::vector<std::vector<Eigen::Vector3d>>& polylines, vtkPolyData* strands);
 
 /// Hair Strands' polylines and cell arrays back into guide strands: refuses an input without
-/// polylines, a missing cell array or one without a value per polyline, and an empty
-/// polyline, naming which.
+/// polylines, a missing cell array (but an optional one, strands/StrandParameters.h) or one
+/// without a value per polyline, and an empty polyline, naming which. A polyline marked
+/// Groomed (1) is its guide's curve (GuideStrand::curve).
 Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides);
+
+/// Guide curves: the points of each polyline of `input`, root first, and the cell array
+/// RootNormal when it has one (else `normals` is left empty). Refuses an input without
+/// polylines.
+Status toCurves(vtkPolyData* input, std::vector<std::vector<Eigen::Vector3d>>& curves,
+                std::vector<Eigen::Vector3d>& normals);
 
 /// Guides over time (Hair Simulation's or Hair State Reader's output, or Hair Strands' at
 /// rest) for the interpolation: the guides as grown (`rest`: the cell array RestRoot, or the
@@ -83,7 +90,9 @@ void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output);
 
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
 /// Speed, cell data StrandId and every per-strand parameter and vector (named as the
-/// pipeline names them, strands/StrandParameters.h); the frame's time in field data ("Time").
+/// pipeline names them, strands/StrandParameters.h) and the groom's reports when the run has
+/// them (FitError, RestShapeStatus, GroomDeviation, Stability: model/GroomReport.h); the
+/// frame's time in field data ("Time").
 void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* strands);
 
 /// The drawn guides: toStrands of the drawing's header and frame, and the point arrays

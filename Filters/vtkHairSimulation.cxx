@@ -23,6 +23,7 @@
 
 #include <cmath>
 #include <map>
+#include <sstream>
 
 vtkStandardNewMacro(vtkHairSimulation);
 
@@ -362,6 +363,10 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   {
     in.Written = this->StateFileName;
   }
+  if (started)
+  {
+    this->WarnGroom();
+  }
   if (hair::Status s = started; !s)
   {
     const bool memory = s.message().find("of memory") != std::string::npos;
@@ -375,4 +380,39 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
     return false;
   }
   return true;
+}
+
+void vtkHairSimulation::WarnGroom()
+{
+  // Sag-free strands whose shape no natural shape can hold start in the closest stable shape:
+  // each named with the reason (the output's RestShapeStatus, GroomDeviation and Stability
+  // cell arrays carry them all).
+  const std::vector<hair::GroomReport>& reports = this->Internal->Sim.groomReports();
+  std::vector<std::size_t> notHeld;
+  for (std::size_t k = 0; k < reports.size(); ++k)
+  {
+    if (reports[k].outcome == hair::RestOutcome::Unstable ||
+        reports[k].outcome == hair::RestOutcome::BeyondBending)
+    {
+      notHeld.push_back(k);
+    }
+  }
+  if (notHeld.empty())
+  {
+    return;
+  }
+  std::ostringstream m;
+  m << "Hair Simulation: " << notHeld.size() << " of " << reports.size()
+    << " strands cannot be held in their shape at t = 0 by any natural shape; each starts in "
+       "the closest stable shape instead (cell arrays RestShapeStatus, GroomDeviation):";
+  const std::size_t shown = 10;
+  for (std::size_t i = 0; i < notHeld.size() && i < shown; ++i)
+  {
+    m << "\n  strand " << notHeld[i] << ": " << reports[notHeld[i]].reason << ".";
+  }
+  if (notHeld.size() > shown)
+  {
+    m << "\n  and " << notHeld.size() - shown << " more.";
+  }
+  vtkWarningMacro(<< m.str());
 }

@@ -193,6 +193,8 @@ private:
   /// Builds the run from the inputs and the properties; false (with the error reported)
   /// when they are refused.
   bool Build(vtkInformationVector** inputVector);
+  /// Warns of the strands whose groom no natural shape can hold (each with its reason).
+  void WarnGroom();
   /// The run's properties against the ranges of their XML domains (no setter clamps): an
   /// error naming the property, its value and its range, before any work.
   bool CheckProperties();

@@ -2,6 +2,7 @@
 
 #include "HairConversion.h"
 #include "strands/BundledBody.h"
+#include "strands/GuideCurves.h"
 #include "strands/GuideGrowth.h"
 #include "strands/HairParameters.h"
 #include "strands/RootSampling.h"
@@ -23,10 +24,24 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <memory>
 
 vtkStandardNewMacro(vtkHairStrands);
 
-vtkHairStrands::vtkHairStrands() = default;
+vtkHairStrands::vtkHairStrands()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+int vtkHairStrands::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  if (port == 1)
+  {
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
 
 void vtkHairStrands::PrintSelf(ostream& os, vtkIndent indent)
 {
@@ -45,16 +60,24 @@ void vtkHairStrands::PrintSelf(ostream& os, vtkIndent indent)
      << ", E " << this->YoungModulus << ", Poisson " << this->PoissonRatio << ", density "
      << this->Density << ", helix " << this->HelixRadius << " / " << this->HelixStep << ", gamma "
      << this->InternalFriction << ", nu " << this->AirFriction << ", variation "
-     << this->CurvatureVariation << "\n";
+     << this->CurvatureVariation << "\n"
+     << indent << "RestShape: " << this->RestShape << "\n"
+     << indent << "MaximumRootDistance: " << this->MaximumRootDistance << "\n";
 }
 
 int vtkHairStrands::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector,
                                         vtkInformationVector*)
 {
-  // Roots are spread over the whole scalp: every process samples the same whole surface.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  // Roots are spread over the whole scalp: every process samples the same whole surface (and
+  // takes every guide curve).
+  for (int port = 0; port < 2; ++port)
+  {
+    if (vtkInformation* inInfo = inputVector[port]->GetInformationObject(0))
+    {
+      inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+      inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    }
+  }
   return 1;
 }
 
@@ -103,6 +126,13 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
   {
     vtkErrorMacro(<< "Hair Strands: " << s.message());
     return 0;
+  }
+
+  // Guide curves: one groomed guide per curve.
+  vtkPolyData* curves = vtkPolyData::GetData(inputVector[1], 0);
+  if (curves)
+  {
+    return this->GuidesFromCurves(input, curves, params, output);
   }
 
   // Every property checked before any work (hair::GrowthOptions::validate, the same ranges
@@ -218,6 +248,10 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
     vtkErrorMacro(<< "Hair Strands: " << s.message());
     return 0;
   }
+  for (hair::GuideStrand& g : guides)
+  {
+    g.restShape = static_cast<hair::RestShape>(this->RestShape);
+  }
   std::vector<std::vector<Eigen::Vector3d>> polylines;
   for (const hair::GuideStrand& g : guides)
   {
@@ -229,5 +263,87 @@ int vtkHairStrands::RequestData(vtkInformation*, vtkInformationVector** inputVec
   type->SetNumberOfTuples(static_cast<vtkIdType>(guides.size()));
   type->Fill(this->HairType);
   output->GetCellData()->AddArray(type);
+  return 1;
+}
+
+int vtkHairStrands::GuidesFromCurves(vtkPolyData* surface, vtkPolyData* curvesIn,
+                                     const hair::HairParameters& params, vtkPolyData* output)
+{
+  if (!(this->MaximumRootDistance >= 0 && this->MaximumRootDistance <= 1))
+  {
+    vtkErrorMacro(<< "Hair Strands: the maximum root distance is " << this->MaximumRootDistance
+                  << "; give a distance from 0 to 1 (mesh units).");
+    return 0;
+  }
+  hair::CurveGuideOptions options;
+  options.elements = this->NumberOfElements;
+  options.hair = params;
+  options.seed = static_cast<std::uint32_t>(this->Seed);
+  options.restShape = static_cast<hair::RestShape>(this->RestShape);
+  options.maxRootDistance = this->MaximumRootDistance;
+  if (hair::Status s = options.validate(); !s)
+  {
+    vtkErrorMacro(<< "Hair Strands: " << s.message());
+    return 0;
+  }
+  std::vector<std::vector<Eigen::Vector3d>> curves;
+  std::vector<Eigen::Vector3d> normals;
+  if (hair::Status s = hair::convert::toCurves(curvesIn, curves, normals); !s)
+  {
+    vtkErrorMacro(<< "Hair Strands: " << s.message());
+    return 0;
+  }
+  // The roots go onto the surface of port 0 when it is one (a point set has none).
+  std::unique_ptr<hair::MeshQueries> scalp;
+  if (surface && surface->GetNumberOfPolys() + surface->GetNumberOfStrips() > 0)
+  {
+    hair::TriangleMesh mesh;
+    if (hair::Status s = hair::convert::toTriangleMesh(surface, "the scalp surface", mesh); !s)
+    {
+      vtkErrorMacro(<< "Hair Strands: " << s.message());
+      return 0;
+    }
+    scalp = std::make_unique<hair::MeshQueries>(mesh);
+  }
+  std::vector<hair::GuideStrand> guides;
+  std::vector<int> source;
+  std::vector<hair::CurveRefusal> refused;
+  const hair::Status made =
+      hair::guidesFromCurves(curves, normals, scalp.get(), options, guides, source, refused);
+  // Each refused curve by name; the others are kept.
+  const std::size_t shown = 20;
+  for (std::size_t i = 0; i < refused.size() && i < shown; ++i)
+  {
+    vtkWarningMacro(<< "Hair Strands: " << refused[i].reason << " It is left out.");
+  }
+  if (refused.size() > shown)
+  {
+    vtkWarningMacro(<< "Hair Strands: " << refused.size() - shown
+                    << " more guide curves are left out for the same kinds of reasons.");
+  }
+  if (!made)
+  {
+    vtkErrorMacro(<< "Hair Strands: " << made.message());
+    return 0;
+  }
+  std::vector<std::vector<Eigen::Vector3d>> polylines;
+  for (const hair::GuideStrand& g : guides)
+  {
+    polylines.push_back(g.curve);
+  }
+  hair::convert::fromGuides(guides, polylines, output);
+  vtkNew<vtkIntArray> type;
+  type->SetName("HairType");
+  type->SetNumberOfTuples(static_cast<vtkIdType>(guides.size()));
+  type->Fill(this->HairType);
+  output->GetCellData()->AddArray(type);
+  vtkNew<vtkIntArray> id; // which input curve each guide comes from
+  id->SetName("CurveId");
+  id->SetNumberOfTuples(static_cast<vtkIdType>(guides.size()));
+  for (std::size_t k = 0; k < source.size(); ++k)
+  {
+    id->SetValue(static_cast<vtkIdType>(k), source[k]);
+  }
+  output->GetCellData()->AddArray(id);
   return 1;
 }

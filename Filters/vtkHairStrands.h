@@ -1,7 +1,9 @@
 /**
  * @class vtkHairStrands
  * @brief Guide strands grown on a scalp: roots spread evenly over a surface region (or one
- * per input point), each a straight polyline along the surface normal or a comb direction.
+ * per input point), each a straight polyline along the surface normal or a comb direction;
+ * or, with guide curves on the second port, one groomed guide per curve (its root moved onto
+ * the surface), each with a rest shape as grown or sag-free.
  *
  * The roots come from hair::sampleRoots, the physical parameters from hair::HairParameters
  * (the four presets of the Super-Helices paper, or Custom). Output: one polyline of
@@ -18,6 +20,12 @@
 #include <vtkPolyDataAlgorithm.h>
 
 #include <string>
+
+class vtkAlgorithmOutput;
+namespace hair
+{
+struct HairParameters;
+}
 
 class HAIRDYNAMICSFILTERS_EXPORT vtkHairStrands : public vtkPolyDataAlgorithm
 {
@@ -37,6 +45,11 @@ public:
   {
     NORMAL = 0,
     COMB = 1 ///< normal blended towards CombDirection by CombWeight
+  };
+  enum RestShapeType
+  {
+    AS_GROWN = 0, ///< the model's own natural shape: the strands sag from their shape at t = 0
+    SAG_FREE = 1  ///< the shape at t = 0 a static equilibrium (hair::RestShape::SagFree)
   };
   enum HairTypeEnum
   {
@@ -64,6 +77,15 @@ public:
   vtkGetCharFromStdStringMacro(RegionArray);
   vtkSetVector2Macro(RegionRange, double);
   vtkGetVector2Macro(RegionRange, double);
+
+  /// Guide curves (polylines, root first) on port 1: one guide per curve instead of grown
+  /// strands.
+  void SetGuideCurvesConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+
+  vtkSetClampMacro(RestShape, int, AS_GROWN, SAG_FREE);
+  vtkGetMacro(RestShape, int);
+  vtkSetMacro(MaximumRootDistance, double);
+  vtkGetMacro(MaximumRootDistance, double);
 
   vtkSetClampMacro(Growth, int, NORMAL, COMB);
   vtkGetMacro(Growth, int);
@@ -98,8 +120,12 @@ public:
 protected:
   vtkHairStrands();
   ~vtkHairStrands() override = default;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  /// Port 1's curves made guides (roots moved onto the surface of port 0 when it is one).
+  int GuidesFromCurves(vtkPolyData* surface, vtkPolyData* curves,
+                       const hair::HairParameters& params, vtkPolyData* output);
 
   int NumberOfStrands = 200;
   double StrandLength = 0.3;
@@ -109,6 +135,8 @@ protected:
   int Region = AUTOMATIC_SCALP;
   std::string RegionArray;
   double RegionRange[2] = {1, 1};
+  int RestShape = AS_GROWN;
+  double MaximumRootDistance = 0.01;
   int Growth = NORMAL;
   double CombDirection[3] = {0, -1, 0};
   double CombWeight = 0.5;

@@ -275,6 +275,18 @@ Eigen::Vector3d MeshQueries::closestPoint(const Eigen::Vector3d& p) const
   return toEigen(P->AabbTree.closest_point(Point(p.x(), p.y(), p.z())));
 }
 
+void MeshQueries::closestPointAndNormal(const Eigen::Vector3d& p, Eigen::Vector3d& point,
+                                        Eigen::Vector3d& normal) const
+{
+  const auto hit = P->AabbTree.closest_point_and_primitive(Point(p.x(), p.y(), p.z()));
+  point = toEigen(hit.first);
+  normal = P->FaceNormals[hit.second.idx()];
+  if (normal.norm() > 0)
+  {
+    normal.normalize();
+  }
+}
+
 bool MeshQueries::isInside(const Eigen::Vector3d& p) const
 {
   return (*P->Side)(Point(p.x(), p.y(), p.z())) == CGAL::ON_BOUNDED_SIDE;

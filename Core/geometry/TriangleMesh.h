@@ -69,6 +69,10 @@ public:
 
   /// The closest point of the surface to p.
   Eigen::Vector3d closestPoint(const Eigen::Vector3d& p) const;
+  /// The closest point of the surface to p and the unit normal of the triangle it lies on
+  /// (out of the solid for a closed mesh; as the triangles are ordered for an open one).
+  void closestPointAndNormal(const Eigen::Vector3d& p, Eigen::Vector3d& point,
+                             Eigen::Vector3d& normal) const;
   /// Whether p lies inside the closed surface (CGAL's Side_of_triangle_mesh).
   bool isInside(const Eigen::Vector3d& p) const;
   /// Signed volume the mesh encloses as given (negative if its triangles face inwards).

@@ -44,6 +44,37 @@ Status StateHeader::validate() const
                            " values for " + std::to_string(numberOfStrands()) + " strands.");
     }
   }
+  const StateGroom& g = groom;
+  if (!g.curveOffsets.empty())
+  {
+    bool ordered = g.curveOffsets.size() == numberOfStrands() + 1 && g.curveOffsets.front() == 0 &&
+                   g.curveOffsets.back() == std::int64_t(g.curvePoints.size());
+    for (std::size_t k = 1; ordered && k < g.curveOffsets.size(); ++k)
+    {
+      ordered = g.curveOffsets[k] >= g.curveOffsets[k - 1];
+    }
+    if (!ordered)
+    {
+      return Status::Error("the guide curves' offsets do not name " +
+                           std::to_string(numberOfStrands()) + " curves of " +
+                           std::to_string(g.curvePoints.size()) + " points.");
+    }
+  }
+  if (!g.restCoordinates.empty() &&
+      g.restCoordinates.size() != numberOfStrands() * std::size_t(coordinatesPerStrand))
+  {
+    return Status::Error("the rest shape has " + std::to_string(g.restCoordinates.size()) +
+                         " values; it needs " + std::to_string(coordinatesPerStrand) +
+                         " per strand.");
+  }
+  for (const auto& [name, values] : g.strandValues)
+  {
+    if (values.size() != numberOfStrands())
+    {
+      return Status::Error("the groom's value '" + name + "' has " + std::to_string(values.size()) +
+                           " values for " + std::to_string(numberOfStrands()) + " strands.");
+    }
+  }
   return Status::Ok();
 }
 

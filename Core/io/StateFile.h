@@ -15,6 +15,26 @@
 namespace hair
 {
 
+/// The groom a run started from (optional; the group /groom, docs/state-file.md): each
+/// groomed strand's guide curve, every strand's rest shape, and per-strand reports of the
+/// fit and of the rest shape, so that a study can be re-run from the file.
+struct StateGroom
+{
+  /// S + 1 offsets into curvePoints: strand k's guide curve is curvePoints[curveOffsets[k]]
+  /// … curvePoints[curveOffsets[k + 1] − 1] (none when they are equal). Empty: no curves.
+  std::vector<std::int64_t> curveOffsets;
+  std::vector<Eigen::Vector3d> curvePoints;
+  /// S × coordinatesPerStrand: the rest shape each strand ran with (Super-Helix (τ, κ1, κ2)
+  /// per element, projective (θ⁰, φ⁰) per segment). Empty: not recorded.
+  std::vector<double> restCoordinates;
+  /// Per-strand values, one per strand each (fit_error, rest_status, …).
+  std::map<std::string, std::vector<double>> strandValues;
+  bool empty() const
+  {
+    return curveOffsets.empty() && restCoordinates.empty() && strandValues.empty();
+  }
+};
+
 /// What does not change over a run.
 struct StateHeader
 {
@@ -33,6 +53,8 @@ struct StateHeader
   std::map<std::string, double> attributes;
   /// Names of the per-point scalars every frame carries (/frames/<name>, [T, P]).
   std::vector<std::string> pointData;
+  /// The groom and rest shape (optional).
+  StateGroom groom;
 
   std::size_t numberOfStrands() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t numberOfPoints() const { return offsets.empty() ? 0 : std::size_t(offsets.back()); }

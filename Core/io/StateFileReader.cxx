@@ -5,6 +5,7 @@
 #include "io/CheckedReadDriver.h"
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
+#include "io/StateGroom.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -404,7 +405,13 @@ Status readHeader(const Contents& c, hid_t f, hid_t offsets, StateHeader& header
   {
     return damaged(std::string(sf::Offsets) + ": " + s.message());
   }
-  return readStrandData(c, f, header);
+  if (Status s = readStrandData(c, f, header); !s)
+  {
+    return s;
+  }
+  detail::readGroom(f, header,
+                    std::min(MaxCompression * c.FileBytes, c.MemoryBytes / sizeof(double)));
+  return Status::Ok();
 }
 
 /// Whole frames: the length of /time, written last in every frame. Its values must be

@@ -4,6 +4,7 @@
 
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
+#include "io/StateGroom.h"
 
 #include <sys/stat.h>
 
@@ -235,6 +236,10 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
       Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
       Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
       if (Status s = writeStrands(strands.get(), header); !s)
+      {
+        return fail(s.message());
+      }
+      if (Status s = detail::writeGroom(f, header); !s)
       {
         return fail(s.message());
       }

@@ -39,6 +39,12 @@ inline constexpr const char* FrameDatasets[] = {Positions, Velocities, Q,
                                                 QDot,      RootFrames, RootVelocities};
 /// One dataset [T] per energy term; RequiredEnergyTerms (StateFile.h) are always there.
 inline constexpr char Energy[] = "/energy";
+/// Optional (StateGroom): the guide curves and the rest shape a run started from, and one
+/// dataset [S] per per-strand value of the groom's report.
+inline constexpr char Groom[] = "/groom";
+inline constexpr char CurveOffsets[] = "/groom/curve_offsets";       ///< int64 [S+1]
+inline constexpr char CurvePoints[] = "/groom/curve_points";         ///< [Pc, 3]
+inline constexpr char RestCoordinates[] = "/groom/rest_coordinates"; ///< [S, C]
 
 /// The path of the dataset `name` in `group`: inGroup(Frames, "twist") is "/frames/twist".
 inline std::string inGroup(const char* group, const std::string& name)

@@ -8,6 +8,7 @@
 #include "common/Status.h"
 #include "io/StateFile.h"
 #include "model/EnergyBudget.h"
+#include "model/GroomReport.h"
 #include "scene/Scene.h"
 #include "strands/GuideStrand.h"
 
@@ -55,6 +56,19 @@ public:
   virtual void writeFrame(StateFrame& frame) const = 0;
   /// The energy budget now (works and dissipations since t = 0).
   virtual EnergyBudget energy() const = 0;
+  /// What the model made of the guides it was initialized with: `guides` (a copy of them)
+  /// as built — a groomed guide's length and root tangent are those of the model's fit to
+  /// its curve — and a report per strand (the fit's error, the rest shape's outcome). The
+  /// default leaves the guides as given and reports nothing.
+  virtual void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const
+  {
+    (void)guides;
+    reports.clear();
+  }
+  /// The rest shape of every strand, describe()'s coordinatesPerStrand values each (the state
+  /// file's /groom/rest_coordinates); empty when the model has none to give.
+  virtual void restCoordinates(std::vector<double>& values) const { values.clear(); }
+
   /// How the model stepped since the previous frame, as named numbers for the energy table
   /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
   /// empty for a model that reports none.

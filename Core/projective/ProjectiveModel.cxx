@@ -1,6 +1,7 @@
 #include "projective/ProjectiveModel.h"
 
 #include "model/StrandPoints.h"
+#include "projective/ProjectiveGroom.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,10 @@
 namespace hair
 {
 
-ProjectiveModel::ProjectiveModel(const ProjectiveOptions& options) : Options(options) {}
+ProjectiveModel::ProjectiveModel(const ProjectiveOptions& options, const SagFreeOptions& sagFree)
+    : Options(options), SagFree(sagFree)
+{
+}
 
 double ProjectiveModel::stepFor(const RunSettings& run)
 {
@@ -28,16 +32,32 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
                                    const RunSettings& run)
 {
   std::vector<ProjectiveStrand> strands(guides.size());
+  Built = guides;
+  Reports.assign(guides.size(), GroomReport());
   for (std::size_t k = 0; k < guides.size(); ++k)
   {
     const GuideStrand& g = guides[k];
     const int n = g.elements;
     std::vector<Eigen::Vector3d> points;
-    for (int i = 0; i <= n; ++i)
+    if (g.curve.empty())
     {
-      points.push_back(g.root + (g.length * i / n) * g.growth.normalized());
+      for (int i = 0; i <= n; ++i)
+      {
+        points.push_back(g.root + (g.length * i / n) * g.growth.normalized());
+      }
     }
-    if (Status s = strandFromPolyline(points, g.rootFrame().col(1), strands[k]); !s)
+    else
+    {
+      // A groom: equal segments inscribed in its curve; their angles are both the shape at
+      // t = 0 and (as grown) the styled rest shape.
+      if (Status s = segmentsAlongCurve(g.curve, n, points, Reports[k].fitError); !s)
+      {
+        return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+      }
+      Built[k].length = n * (points[1] - points[0]).norm();
+      Built[k].growth = (points[1] - points[0]).normalized();
+    }
+    if (Status s = strandFromPolyline(points, Built[k].rootFrame().col(1), strands[k]); !s)
     {
       return Status::Error("strand " + std::to_string(k) + ": " + s.message());
     }
@@ -46,7 +66,47 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
   ProjectiveOptions o = Options;
   o.timeStep = stepFor(run);
   o.threads = run.threads;
-  return Strands.initialize(std::move(strands), scene, o);
+  if (Status s = Strands.initialize(std::move(strands), scene, o); !s)
+  {
+    return s;
+  }
+  // Sag-free rest angles, strand by strand (each leaves its strand in its start shape).
+  for (std::size_t k = 0; k < guides.size(); ++k)
+  {
+    if (guides[k].restShape != RestShape::SagFree)
+    {
+      continue;
+    }
+    ProjectiveSagFree r;
+    if (Status s = projectiveSagFree(Strands, static_cast<int>(k), SagFree, r); !s)
+    {
+      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+    }
+    const double fit = Reports[k].fitError;
+    Reports[k] = r.report;
+    Reports[k].fitError = fit;
+  }
+  return Status::Ok();
+}
+
+void ProjectiveModel::groomed(std::vector<GuideStrand>& guides,
+                              std::vector<GroomReport>& reports) const
+{
+  guides = Built;
+  reports = Reports;
+}
+
+void ProjectiveModel::restCoordinates(std::vector<double>& values) const
+{
+  values.clear();
+  for (int s = 0; s < Strands.numberOfStrands(); ++s)
+  {
+    for (const Eigen::Vector2d& a : Strands.restAngles(s))
+    {
+      values.push_back(a.x());
+      values.push_back(a.y());
+    }
+  }
 }
 
 Status ProjectiveModel::advanceTo(double target)

@@ -2,6 +2,7 @@
 // The projective model of Kurihara, Anjyo and Thalmann (1993) behind the StrandModel seam:
 // each guide a chain of rigid segments grown straight along its growth direction, stepped
 // explicitly in whole steps of at most 1 ms per frame.
+#include "model/GroomReport.h"
 #include "model/StrandModel.h"
 #include "projective/ProjectiveStrands.h"
 
@@ -12,7 +13,8 @@ class ProjectiveModel final : public StrandModel
 {
 public:
   /// `options.timeStep` and `options.threads` are taken from the run at initialize().
-  explicit ProjectiveModel(const ProjectiveOptions& options = {});
+  explicit ProjectiveModel(const ProjectiveOptions& options = {},
+                           const SagFreeOptions& sagFree = {});
 
   const char* name() const override { return "projective"; }
   Status initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
@@ -22,6 +24,8 @@ public:
   void describe(StateHeader& header) const override;
   void writeFrame(StateFrame& frame) const override;
   EnergyBudget energy() const override;
+  void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const override;
+  void restCoordinates(std::vector<double>& values) const override;
 
   /// The explicit scheme's step: at most 1 ms, in whole steps per frame so that frames fall
   /// on their times.
@@ -33,7 +37,10 @@ public:
 
 private:
   ProjectiveOptions Options;
+  SagFreeOptions SagFree;
   ProjectiveStrands Strands;
+  std::vector<GuideStrand> Built;   ///< the guides as built (groomed: the chain's length, tangent)
+  std::vector<GroomReport> Reports; ///< per strand: the chain's fit and the rest shape
 };
 
 } // namespace hair

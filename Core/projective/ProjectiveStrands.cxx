@@ -75,7 +75,8 @@ bool ProjectiveStrands::deepest(const std::vector<PosedPart>& parts, const Eigen
   return deepestPart(parts, p, 2 * Options.contactMargin + 1e-6, c);
 }
 
-void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const
+void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats,
+                               std::vector<Eigen::Vector2d>* moments) const
 {
   const std::size_t k = s.q.size();
   const double m = s.mass, d = s.d, h = f.h;
@@ -97,7 +98,8 @@ void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStat
 
   // Air drag at each segment's centre. A gust reaches a strand all at once: its phase is
   // taken at the root (the gust wavelength U·T is longer than a strand).
-  const Eigen::Vector3d air = World.air.velocity(s.P[0], f.t0);
+  const Eigen::Vector3d air =
+      f.stillAir ? Eigen::Vector3d::Zero().eval() : World.air.velocity(s.P[0], f.t0);
   const ProjectiveParameters& par = s.material;
   const double dragCoefficient =
       0.5 * par.airDensity * par.dragCoefficient * par.dragDiameter * d; // segmentDrag's
@@ -176,6 +178,11 @@ void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStat
 
     // Symplectic Euler, damping implicit: I (q̇⁺ − q̇)/h = Q − γ q̇⁺ ; q⁺ = q + h q̇⁺.
     const std::size_t j = i - 1;
+    if (moments)
+    {
+      (*moments)[j] = qg + qb + qw + qc;
+      continue;
+    }
     const Eigen::Vector2d total = qg - s.kappa * (s.q[j] - s.q0[j]) + qb + qw + qc;
     const Eigen::Vector2d qd = (s.qd[j] + s.gain[j] * total) * s.damper[j];
     s.dissipated += h * s.damping[j] * qd.squaredNorm();
@@ -295,6 +302,19 @@ Status ProjectiveStrands::initialize(std::vector<ProjectiveStrand> strands, hair
         return Status::Error(name + ": a rest angle is NaN or infinite");
       }
     }
+    if (!st.angles.empty() && st.angles.size() != st.restAngles.size())
+    {
+      return Status::Error(name + ": it has " + std::to_string(st.angles.size()) +
+                           " starting angles for " + std::to_string(st.restAngles.size()) +
+                           " segments; give one pair per segment, or none");
+    }
+    for (const auto& a : st.angles)
+    {
+      if (!a.allFinite())
+      {
+        return Status::Error(name + ": a starting angle is NaN or infinite");
+      }
+    }
     if (Status m = st.parameters.validate(); !m)
     {
       return Status::Error(name + ": " + m.message());
@@ -322,7 +342,7 @@ Status ProjectiveStrands::initialize(std::vector<ProjectiveStrand> strands, hair
     s.rootRest = in.root;
     s.frameRest = in.rootFrame;
     s.q0 = in.restAngles;
-    s.q = in.restAngles;
+    s.q = in.angles.empty() ? in.restAngles : in.angles;
     s.qd.assign(k, Eigen::Vector2d::Zero());
     s.inertia.resize(k);
     s.damping.resize(k);
@@ -410,6 +430,58 @@ Status ProjectiveStrands::setState(int s, const std::vector<Eigen::Vector2d>& an
   InitialEnergy = 0;
   InitialEnergy = energy().total();
   return Status::Ok();
+}
+
+Status ProjectiveStrands::setRestAngles(int s, const std::vector<Eigen::Vector2d>& restAngles)
+{
+  if (s < 0 || s >= numberOfStrands())
+  {
+    return Status::Error("projective strands: no strand " + std::to_string(s));
+  }
+  Strand& st = Strands[s];
+  if (restAngles.size() != st.q0.size())
+  {
+    return Status::Error("projective strands: strand " + std::to_string(s) + " has " +
+                         std::to_string(st.q0.size()) + " segments; give as many rest angles");
+  }
+  for (const Eigen::Vector2d& a : restAngles)
+  {
+    if (!a.allFinite())
+    {
+      return Status::Error("projective strands: NaN or infinite rest angle");
+    }
+  }
+  st.q0 = restAngles;
+  for (Strand& other : Strands)
+  {
+    other.dissipated = other.bodyWork = other.windWork = other.contactWork = other.projectionWork =
+        0;
+  }
+  InitialEnergy = 0;
+  InitialEnergy = energy().total();
+  return Status::Ok();
+}
+
+void ProjectiveStrands::restMoments(int s, std::vector<Eigen::Vector2d>& moments) const
+{
+  Strand copy = Strands[s];
+  std::fill(copy.qd.begin(), copy.qd.end(), Eigen::Vector2d::Zero());
+  StepFrame f;
+  f.t0 = Time;
+  f.h = Options.timeStep;
+  World.posedParts(Time, f.parts0);
+  for (PosedPart& p : f.parts0)
+  {
+    p.velocity.setZero();
+    p.angularVelocity.setZero();
+  }
+  f.root0 = f.root1 = World.rootMotion.pose(Time);
+  f.rootRates = RigidRates();
+  f.rootRates.reference = copy.P[0];
+  f.stillAir = true;
+  ProjectiveStepStats stats;
+  moments.assign(copy.q.size(), Eigen::Vector2d::Zero());
+  forces(copy, f, stats, &moments);
 }
 
 Status ProjectiveStrands::step(ProjectiveStepStats* statsOut)

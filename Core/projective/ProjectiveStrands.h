@@ -100,6 +100,20 @@ public:
   Status setState(int s, const std::vector<Eigen::Vector2d>& angles,
                   const std::vector<Eigen::Vector2d>& rates);
 
+  /// Replaces the rest angles (θ⁰, φ⁰) of strand s (a sag-free rest shape) and restarts the
+  /// energy budget, as setState does.
+  Status setRestAngles(int s, const std::vector<Eigen::Vector2d>& restAngles);
+  /// The generalized forces Q (θ, φ) of every joint of strand s in its current angles, at
+  /// rest: the moments of gravity and of the reaction constraint about each joint's axis,
+  /// with the rates, the roots' motion, the parts' velocities and the wind all taken as zero
+  /// (the hinge springs are not in Q). The forces of the step, computed by the step's own
+  /// code: with κ (q − q⁰) = Q the strand is a static equilibrium.
+  void restMoments(int s, std::vector<Eigen::Vector2d>& moments) const;
+  const ProjectiveParameters& material(int s) const { return Strands[s].material; }
+  /// κ = EI / d of strand s's hinges.
+  double hingeStiffness(int s) const { return Strands[s].kappa; }
+  const std::vector<Eigen::Vector2d>& restAngles(int s) const { return Strands[s].q0; }
+
   /// One step of h. Thread-safe inside; not to be called concurrently.
   Status step(ProjectiveStepStats* stats = nullptr);
   /// Steps until `duration` has passed (rounded to whole steps); `progress` (optional) is
@@ -162,11 +176,15 @@ private:
     std::vector<PosedPart> parts0, parts1; ///< the parts at t0 and t0 + h
     Eigen::Isometry3d root0, root1;        ///< the roots' pose at t0 and t0 + h
     RigidRates rootRates;                  ///< the roots' velocity field at t0
+    bool stillAir = false;                 ///< no wind (restMoments)
   };
 
   void forward(Strand& s, const Eigen::Vector3d& root, const Eigen::Matrix3d& frame) const;
   void stepStrand(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
-  void forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
+  /// The step's forces and the update of every joint; with `moments`, only the forces: Q of
+  /// each joint is written there and the strand's angles and rates are left as they are.
+  void forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats,
+              std::vector<Eigen::Vector2d>* moments = nullptr) const;
   void place(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
   bool deepest(const std::vector<PosedPart>& parts, const Eigen::Vector3d& p, PartContact& c) const;
   double gravitational(const Strand& s) const;

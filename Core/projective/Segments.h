@@ -39,6 +39,9 @@ struct ProjectiveStrand
   Eigen::Matrix3d rootFrame = Eigen::Matrix3d::Identity();
   double segmentLength = 0.01;             ///< d, metres
   std::vector<Eigen::Vector2d> restAngles; ///< (θ⁰, φ⁰) of each segment; its size is k
+  /// (θ, φ) of each segment at t = 0 when the strand starts out of its rest shape (a groom
+  /// with a sag-free rest shape); empty: the rest angles.
+  std::vector<Eigen::Vector2d> angles;
   ProjectiveParameters parameters;
 };
 

@@ -13,11 +13,13 @@ std::unique_ptr<StrandModel> makeModel(const SimulationOptions& options)
   switch (options.model)
   {
   case ModelType::Projective:
-    return std::make_unique<ProjectiveModel>(options.projective);
+    return std::make_unique<ProjectiveModel>(options.projective, options.sagFree);
   case ModelType::SuperHelix:
     break;
   }
-  return std::make_unique<SuperHelixModel>(options.superHelix);
+  SuperHelixOptions superHelix = options.superHelix;
+  superHelix.sagFree = options.sagFree;
+  return std::make_unique<SuperHelixModel>(superHelix);
 }
 
 } // namespace hair

@@ -24,12 +24,46 @@ struct Simulation::Impl
   std::vector<double> Depth;
   std::vector<std::map<std::string, double>> Steps; ///< the model's stepStatistics per frame
   Status Failed; ///< set when a step failed: the strands may then be at different times
+  std::vector<GroomReport> Reports;
 
   /// The model's state now as a frame, with the penetration into the scene's parts at the
   /// same time (the same parts, poses and look-ups for every model).
   StateFrame record();
   void header(const std::vector<GuideStrand>& strands);
+  /// The header's /groom: curves, rest coordinates and reports, when any guide has a groom
+  /// or a sag-free rest shape (files of other runs are unchanged).
+  void groom(const std::vector<GuideStrand>& strands);
 };
+
+void Simulation::Impl::groom(const std::vector<GuideStrand>& strands)
+{
+  const bool any = std::any_of(strands.begin(), strands.end(),
+                               [](const GuideStrand& g)
+                               { return !g.curve.empty() || g.restShape == RestShape::SagFree; });
+  if (!any)
+  {
+    return;
+  }
+  StateGroom& g = Header.groom;
+  g.curveOffsets.assign(1, 0);
+  for (const GuideStrand& s : strands)
+  {
+    g.curvePoints.insert(g.curvePoints.end(), s.curve.begin(), s.curve.end());
+    g.curveOffsets.push_back(static_cast<std::int64_t>(g.curvePoints.size()));
+  }
+  Model->restCoordinates(g.restCoordinates);
+  if (Reports.size() == strands.size())
+  {
+    for (const GroomReportValue& v : groomReportValues())
+    {
+      std::vector<double>& values = g.strandValues[v.file];
+      for (const GroomReport& r : Reports)
+      {
+        values.push_back(v.get(r));
+      }
+    }
+  }
+}
 
 StateFrame Simulation::Impl::record()
 {
@@ -182,7 +216,12 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   {
     return s;
   }
-  r->header(strands);
+  // The guides as the model built them (a groom's fitted length and root tangent), so that
+  // the file draws the strands again as they ran, and the groom with its reports.
+  std::vector<GuideStrand> built = strands;
+  r->Model->groomed(built, r->Reports);
+  r->header(built);
+  r->groom(built);
   r->Extra = r->Model->energy().extraNames();
   if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage); !s)
   {
@@ -300,6 +339,11 @@ void Simulation::energyTable(std::vector<double>& times,
 const StrandModel& Simulation::model() const
 {
   return *P->Model;
+}
+
+const std::vector<GroomReport>& Simulation::groomReports() const
+{
+  return P->Reports;
 }
 
 } // namespace hair

@@ -35,6 +35,7 @@ struct SimulationOptions
   int threads = 1;
   SuperHelixOptions superHelix; ///< read by the Super-Helix model only
   ProjectiveOptions projective; ///< read by the projective model only (not its step, threads)
+  SagFreeOptions sagFree;       ///< for guides whose rest shape is sag-free, either model
 
   RunSettings run() const { return {timeStep, frameInterval, threads}; }
 };
@@ -99,6 +100,10 @@ public:
                    std::map<std::string, std::vector<double>>& columns) const;
   /// The model being run (for tests and studies that look inside it).
   const StrandModel& model() const;
+  /// Per strand, what the model made of its groom and rest shape (StrandModel::groomed):
+  /// the fit's error, the rest shape's outcome and, where it could not hold the shape, why.
+  /// Empty for a model that reports none.
+  const std::vector<GroomReport>& groomReports() const;
 
 private:
   struct Impl;

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
+
 #include <cmath>
 #include <sstream>
 
@@ -24,6 +26,37 @@ Status GuideStrand::validate(const std::string& what) const
   if (Status s = hair.validate(); !s)
   {
     return Status::Error(what + ": " + s.message());
+  }
+  if (!curve.empty())
+  {
+    if (curve.size() < 2)
+    {
+      return Status::Error(what + " has a guide curve of one point: a curve needs a root and "
+                                  "at least one more point.");
+    }
+    double length = 0;
+    for (std::size_t j = 0; j < curve.size(); ++j)
+    {
+      if (!curve[j].allFinite())
+      {
+        return Status::Error(what + ": point " + std::to_string(j) +
+                             " of its guide curve is NaN or infinite.");
+      }
+      length += j > 0 ? (curve[j] - curve[j - 1]).norm() : 0.0;
+    }
+    for (std::size_t j = 1; j < curve.size(); ++j)
+    {
+      if (!((curve[j] - curve[j - 1]).norm() > 1e-9 * length))
+      {
+        return Status::Error(what + ": points " + std::to_string(j - 1) + " and " +
+                             std::to_string(j) +
+                             " of its guide curve are the same point; remove the repeated one.");
+      }
+    }
+    if (!((curve[0] - root).norm() <= 1e-9 * std::max(1.0, root.norm())))
+    {
+      return Status::Error(what + ": its guide curve does not start at its root.");
+    }
   }
   return Status::Ok();
 }

@@ -16,11 +16,16 @@ int toCount(double v)
 {
   return v >= 0 && v < 2147483648.0 ? static_cast<int>(v) : -1;
 }
+/// 1: sag-free; anything else (0, or a value a file should not hold) as grown.
+RestShape toRestShape(double v)
+{
+  return v == 1 ? RestShape::SagFree : RestShape::AsGrown;
+}
 } // namespace
 
-const std::array<StrandParameter, 13>& strandParameters()
+const std::array<StrandParameter, 14>& strandParameters()
 {
-  static const std::array<StrandParameter, 13> table = {{
+  static const std::array<StrandParameter, 14> table = {{
       {"Length", "length", "m", [](const GuideStrand& g) { return g.length; },
        [](GuideStrand& g, double v) { g.length = v; }},
       {"NumberOfElements", "elements", "1", [](const GuideStrand& g) { return double(g.elements); },
@@ -52,6 +57,9 @@ const std::array<StrandParameter, 13>& strandParameters()
        [](GuideStrand& g, double v) { g.hair.curvatureVariation = v; }},
       {"Seed", "seed", "1", [](const GuideStrand& g) { return double(g.seed); },
        [](GuideStrand& g, double v) { g.seed = toSeed(v); }},
+      {"RestShape", "rest_shape", "1",
+       [](const GuideStrand& g) { return double(static_cast<int>(g.restShape)); },
+       [](GuideStrand& g, double v) { g.restShape = toRestShape(v); }, true},
   }};
   return table;
 }

@@ -18,10 +18,19 @@ struct StrandParameter
   const char* unit;
   double (*get)(const GuideStrand&);
   void (*set)(GuideStrand&, double);
+  /// May be missing from Hair Simulation's strands input (the field keeps its default):
+  /// parameters added after strands without them were made.
+  bool optional = false;
 };
 
 /// Every per-strand parameter, in the order they are written.
-const std::array<StrandParameter, 13>& strandParameters();
+const std::array<StrandParameter, 14>& strandParameters();
+
+/// The cell array that marks a groomed guide (1: its polyline is its guide curve,
+/// GuideStrand::curve; 0 or missing: the strand grows straight along its growth direction
+/// and the polyline only gives its root). The curves themselves are stored in the state
+/// file's /groom group (docs/state-file.md).
+inline constexpr char GroomedArray[] = "Groomed";
 
 struct StrandVector
 {

@@ -51,6 +51,16 @@ Status StrandSpec::validate() const
       return Status::Error(s.str());
     }
   }
+  if (!restCurvature.empty())
+  {
+    if (restCurvature.size() != 3 * elementLengths.size())
+      return Status::Error(who + "the rest curvature has " + std::to_string(restCurvature.size()) +
+                           " values; give 3 per element (τ, κ1, κ2), " +
+                           std::to_string(3 * elementLengths.size()) + " in all, or none.");
+    for (double v : restCurvature)
+      if (!std::isfinite(v))
+        return Status::Error(who + "the rest curvature is not finite.");
+  }
   Status st = hair.validate();
   if (!st)
     return Status::Error(who + st.message());

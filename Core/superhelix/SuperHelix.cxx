@@ -109,7 +109,8 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
     for (int i = 0; i < 3; ++i)
     {
       const double var = Spec.hair.curvatureVariation * uniformSigned(gen);
-      Qrest[3 * e + i] = k0[i] * (1 + var);
+      Qrest[3 * e + i] =
+          Spec.restCurvature.empty() ? k0[i] * (1 + var) : Spec.restCurvature[3 * e + i];
       Kdiag[3 * e + i] = stiff[i] * l;
       Gdiag[3 * e + i] = Spec.hair.internalFriction * l;
     }

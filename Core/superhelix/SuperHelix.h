@@ -47,6 +47,10 @@ struct StrandSpec
   std::vector<double> elementLengths; ///< ℓ_Q [m], N = size(), each > 0
   HairParameters hair;
   std::uint32_t seed = 1; ///< for the natural-curvature variation
+  /// The natural (rest) curvatures and twist, (τ, κ1, κ2) per element (3N values), when they
+  /// are not the hair type's helix: a sag-free rest shape (superhelix/SagFree.h). Empty: the
+  /// helix of `hair` with its seeded variation.
+  std::vector<double> restCurvature;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
   Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, unless windField
   AirVelocityField windField;                     ///< optional, overrides `wind`

@@ -2,6 +2,8 @@
 
 #include "common/Parallel.h"
 #include "superhelix/Centerline.h"
+#include "superhelix/CurveFit.h"
+#include "superhelix/SagFree.h"
 
 #include <algorithm>
 #include <cmath>
@@ -91,36 +93,151 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   // The wind: the fast uniform path when the air is steady and uniform, the field otherwise.
   const bool uniformAir = World.air.isSteadyAndUniform();
   const Eigen::Vector3d uniformWind = World.air.velocity(Eigen::Vector3d::Zero(), 0);
-  Helices.assign(guides.size(), SuperHelix());
-  for (std::size_t k = 0; k < guides.size(); ++k)
+  // The body's contacts as a sag-free rest shape balances them: the parts where they are at
+  // t = 0, held still (no hair–hair contacts: each strand is balanced on its own).
+  std::vector<PosedPart> still;
+  World.posedParts(0, still);
+  for (PosedPart& p : still)
   {
-    const GuideStrand& g = guides[k];
-    StrandSpec spec = StrandSpec::uniform(g.length, g.elements, g.hair);
-    spec.name = "strand " + std::to_string(k);
-    spec.id = static_cast<int>(k);
-    spec.seed = g.seed + static_cast<std::uint32_t>(k);
-    spec.gravity = World.gravity;
-    if (uniformAir)
+    p.velocity.setZero();
+    p.angularVelocity.setZero();
+  }
+  ContactForces restContacts;
+  if (Options.contacts.enabled && !still.empty())
+  {
+    restContacts = [this, &still, &guides](int strand, double,
+                                           const std::vector<StrandSample>& samples,
+                                           std::vector<ContactResponse>& response)
     {
-      spec.wind = uniformWind;
-    }
-    else
-    {
-      spec.windField = World.air.field();
-    }
-    spec.quadratureTolerance = Options.quadratureTolerance;
-    spec.integrator = Options.integrator;
-    spec.root = World.rootMotion.carriedRoot(g.root, g.rootFrame());
-    if (Status s = Helices[k].initialize(spec, 0.0); !s)
+      Body.respond(samples, guides[strand].hair.linearDensity(), still.data(),
+                   static_cast<int>(still.size()), response);
+    };
+  }
+  Helices.assign(guides.size(), SuperHelix());
+  Built = guides;
+  Reports.assign(guides.size(), GroomReport());
+  std::vector<Status> failed(guides.size());
+  // Strand by strand on the run's threads: a groom's fit and a sag-free rest shape cost
+  // milliseconds each (docs/benchmarks.md).
+  parallelBlocks(static_cast<std::int64_t>(guides.size()), 1, Run.threads,
+                 [&](std::int64_t begin, std::int64_t end)
+                 {
+                   for (std::int64_t k = begin; k < end; ++k)
+                   {
+                     failed[k] = buildStrand(static_cast<int>(k), guides[k], uniformAir,
+                                             uniformWind, restContacts);
+                   }
+                 });
+  for (const Status& s : failed)
+  {
+    if (!s)
     {
       return s;
     }
+  }
+  for (SuperHelix& h : Helices)
+  {
     // The model lives on the heap and owns the strands: `this` outlives the hook.
-    Helices[k].setContactForces(
-        [this](int strand, double t, const std::vector<StrandSample>& samples,
-               std::vector<ContactResponse>& response) { respond(strand, t, samples, response); });
+    h.setContactForces([this](int strand, double t, const std::vector<StrandSample>& samples,
+                              std::vector<ContactResponse>& response)
+                       { respond(strand, t, samples, response); });
   }
   return Status::Ok();
+}
+
+Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir,
+                                    const Eigen::Vector3d& uniformWind,
+                                    const ContactForces& restContacts)
+{
+  const std::string name = "strand " + std::to_string(k);
+  // A groom: the Super-Helix fitted to its curve gives the length, the root frame and q.
+  SuperHelixFit fit;
+  Eigen::Matrix3d frame = g.rootFrame();
+  double length = g.length;
+  if (!g.curve.empty())
+  {
+    if (Status s = fitSuperHelix(g.curve, g.normal, g.elements, fit); !s)
+    {
+      return Status::Error(name + ": " + s.message());
+    }
+    frame = fit.rootFrame;
+    length = fit.length;
+    Built[k].length = length;
+    Built[k].growth = frame.col(0);
+    Reports[k].fitError = fit.maxError;
+  }
+  StrandSpec spec = StrandSpec::uniform(length, g.elements, g.hair);
+  spec.name = name;
+  spec.id = k;
+  spec.seed = g.seed + static_cast<std::uint32_t>(k);
+  spec.gravity = World.gravity;
+  if (uniformAir)
+  {
+    spec.wind = uniformWind;
+  }
+  else
+  {
+    spec.windField = World.air.field();
+  }
+  spec.quadratureTolerance = Options.quadratureTolerance;
+  spec.integrator = Options.integrator;
+  spec.root = World.rootMotion.carriedRoot(g.root, frame);
+  SuperHelix& h = Helices[k];
+  if (Status s = h.initialize(spec, 0.0); !s)
+  {
+    return s;
+  }
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(3 * g.elements);
+  if (!g.curve.empty())
+  {
+    if (Status s = h.setState(fit.q, zero); !s)
+    {
+      return s;
+    }
+  }
+  if (g.restShape != RestShape::SagFree)
+  {
+    return Status::Ok();
+  }
+  // Sag-free: the natural shape that holds the shape at t = 0 (the groom, or the grown
+  // natural helix), or the closest stable shape where none can.
+  SagFreeResult r;
+  if (Status s = sagFree(spec, h.q(), restContacts, Options.sagFree, r); !s)
+  {
+    return Status::Error(name + ": " + s.message());
+  }
+  spec.restCurvature.assign(r.rest.data(), r.rest.data() + r.rest.size());
+  if (Status s = h.initialize(spec, 0.0); !s)
+  {
+    return s;
+  }
+  if (Status s = h.setState(r.start, zero); !s)
+  {
+    return s;
+  }
+  GroomReport& report = Reports[k];
+  report.outcome = r.outcome;
+  report.deviation = r.deviation;
+  report.stability = r.stability;
+  report.reason = r.reason;
+  return Status::Ok();
+}
+
+void SuperHelixModel::groomed(std::vector<GuideStrand>& guides,
+                              std::vector<GroomReport>& reports) const
+{
+  guides = Built;
+  reports = Reports;
+}
+
+void SuperHelixModel::restCoordinates(std::vector<double>& values) const
+{
+  values.clear();
+  for (const SuperHelix& h : Helices)
+  {
+    values.insert(values.end(), h.restCurvature().data(),
+                  h.restCurvature().data() + h.restCurvature().size());
+  }
 }
 
 void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSample>& samples,

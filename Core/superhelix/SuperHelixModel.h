@@ -4,6 +4,7 @@
 // together on the run's threads.
 #include "contact/BodyContacts.h"
 #include "contact/HairHairContacts.h"
+#include "model/GroomReport.h"
 #include "model/StrandModel.h"
 #include "superhelix/Quadrature.h"
 #include "superhelix/SuperHelix.h"
@@ -43,6 +44,9 @@ struct SuperHelixOptions
   bool hairHairEnabled = false;
   HairHairParameters hairHair;
   int hairHairMaxUpdates = 8;
+  /// How sag-free rest shapes are found (guides whose restShape is SagFree); a run sets it
+  /// from SimulationOptions::sagFree.
+  SagFreeOptions sagFree;
   /// The seam for other contact responses: a hook called for every strand at every
   /// (sub-)step right after the body's and the other strands' response, with the same
   /// samples and response buffer, to which it ADDS its own force, stiffness and damping
@@ -68,6 +72,8 @@ public:
   void describe(StateHeader& header) const override;
   void writeFrame(StateFrame& frame) const override;
   EnergyBudget energy() const override;
+  void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const override;
+  void restCoordinates(std::vector<double>& values) const override;
   /// Over the steps since the previous frame (advanceTo): "substeps", the (sub-)steps each
   /// strand took, mean over the strands (1 per step with fixed steps); "rejected_substeps",
   /// the sub-steps the accuracy control computed and took again smaller, mean over the
@@ -80,6 +86,9 @@ public:
   const std::vector<SuperHelix>& strands() const { return Helices; }
 
 private:
+  /// Strand k from guide g: fitted to its groom, made sag-free when asked.
+  Status buildStrand(int k, const GuideStrand& g, bool uniformAir,
+                     const Eigen::Vector3d& uniformWind, const ContactForces& restContacts);
   void respond(int strand, double t, const std::vector<StrandSample>& samples,
                std::vector<ContactResponse>& response) const;
 
@@ -87,6 +96,8 @@ private:
   RunSettings Run;
   Scene World;
   std::vector<SuperHelix> Helices;
+  std::vector<GuideStrand> Built;   ///< the guides as built (groomed: the fit's length, tangent)
+  std::vector<GroomReport> Reports; ///< per strand: the fit and the rest shape
   BodyContacts Body;
   HairHairContacts HairHair;
   // stepStatistics() of the steps since the last frame, added up after every stepStrands.

@@ -38,6 +38,20 @@ class Errors:
         proxy.GetClientSideObject().GetExecutive().AddObserver(vtkCommand.ErrorEvent, lambda o, e: None)
 
 
+class Warnings:
+    """Collects the warning messages a proxy's VTK object reports."""
+
+    def __init__(self, proxy):
+        self.messages = []
+
+        @calldata_type(VTK_STRING)
+        def on_warning(obj, event, message):
+            self.messages.append(str(message))
+
+        self._observer = on_warning
+        proxy.GetClientSideObject().AddObserver(vtkCommand.WarningEvent, on_warning)
+
+
 def fetch(proxy, port=0):
     return servermanager.Fetch(proxy, None, None, port)
 
