@@ -19,15 +19,7 @@ namespace hair
 {
 
 using detail::formStepSystem;
-
-namespace
-{
-// Up to this size (3N) the step's matrix is factorized by luSolveInPlace (DenseLu.h), larger
-// ones by Eigen's blocked PartialPivLU. In whole steps of the wavy strand (alternated
-// processes) ours is faster up to 3N = 360 (N = 120: 1.9–3.1 ms a step against
-// 4.0–4.2 ms); at 3N = 480 the two are within the noise.
-constexpr int UnblockedLuMax = 360;
-} // namespace
+using detail::UnblockedLuMax;
 
 Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
 {
@@ -152,7 +144,6 @@ Status SuperHelix::singleStep(double h)
       << "(1/30 is stable for every preset).";
     return Status::Error(s.str());
   }
-  const double t0 = Time, t1 = Time + h;
   if (!CurValid)
     reconstruct();
   // The contact response in the step workspace is this strand's only until the step ends.
@@ -161,6 +152,15 @@ Status SuperHelix::singleStep(double h)
     bool& contactsSet;
     ~EndOfStep() { contactsSet = false; }
   } endOfStep{ContactsSet};
+  Eigen::VectorXd qdN;
+  if (Status st = prepareStep(h, qdN); !st)
+    return st;
+  return commitStep(h, qdN);
+}
+
+Status SuperHelix::prepareStep(double h, Eigen::VectorXd& qdN)
+{
+  const double t0 = Time, t1 = Time + h;
   Status st = evaluateForces(Cur, t0);
   if (!st)
     return Status::Error(where(t0, t1) + st.message());
@@ -171,10 +171,15 @@ Status SuperHelix::singleStep(double h)
     return Status::Error(where(t0, t1) +
                          "the generalized forces are not finite; the previous state is kept. "
                          "Check the root motion and forces.");
-  Eigen::VectorXd qdN;
   st = solve(h, qdN);
   if (!st)
     return Status::Error(where(t0, t1) + st.message() + "; the previous state is kept.");
+  return Status::Ok();
+}
+
+Status SuperHelix::commitStep(double h, const Eigen::VectorXd& qdN)
+{
+  const double t0 = Time, t1 = Time + h;
   const Eigen::VectorXd qN = Q + h * qdN;
   if (!qN.allFinite() || !qdN.allFinite())
     return Status::Error(
@@ -196,7 +201,7 @@ Status SuperHelix::singleStep(double h)
     }
   }
   const RootState rootN = rootState(t1);
-  st = rootN.validate();
+  Status st = rootN.validate();
   if (!st)
     return Status::Error(where(t0, t1) + st.message());
 

@@ -39,12 +39,6 @@ Status SuperHelixOptions::validate() const
     {
       return Status::Error("hair–hair contacts: " + s.message());
     }
-    if (hairHairMaxUpdates < 1 || hairHairMaxUpdates > 64)
-    {
-      return Status::Error(
-          "hair–hair contacts: hairHairMaxUpdates = " + std::to_string(hairHairMaxUpdates) +
-          " is out of range; give 1 to 64 searches per step.");
-    }
   }
   return Status::Ok();
 }
@@ -60,6 +54,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   }
   Run = run;
   World = scene;
+  HairHairWork = HairHairDissipated = 0;
   Options.contacts.lookAhead = run.timeStep;
   if (Status s = Body.setParameters(Options.contacts); !s)
   {
@@ -69,6 +64,16 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   {
     HairHairParameters hh = Options.hairHair;
     hh.threads = std::max(1, run.threads);
+    if (hh.thickness == 0 && !guides.empty())
+    {
+      // Automatic: the clump of the head's fibres each guide stands for (their mean radius).
+      double radius = 0;
+      for (const GuideStrand& g : guides)
+        radius += g.hair.radius / static_cast<double>(guides.size());
+      hh.thickness =
+          HairHairParameters::automaticThickness(radius, static_cast<int>(guides.size()));
+    }
+    HairHairThickness = hh.thickness; // as used (the state file records it)
     if (Status s = HairHair.setParameters(hh); !s)
     {
       return Status::Error("hair–hair contacts: " + s.message());
@@ -118,10 +123,6 @@ void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSamp
     Body.respond(samples, Helices[strand].spec().hair.linearDensity(), parts.data(),
                  static_cast<int>(parts.size()), response);
   }
-  if (Options.hairHairEnabled)
-  {
-    HairHair.addResponses(strand, samples, response); // strand ids are their indices
-  }
   if (Options.additionalContacts)
   {
     Options.additionalContacts(strand, t, samples, response);
@@ -138,42 +139,26 @@ Status SuperHelixModel::advanceTo(double target)
   const int steps =
       std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
   const double dt = (target - time()) / steps;
-  auto findContacts = [&]() -> Status
-  {
-    if (Status s = findHairHairContacts(Helices, HairHair); !s)
-    {
-      return Status::Error("hair–hair contacts at t = " + std::to_string(time()) +
-                           " s: " + s.message());
-    }
-    return Status::Ok();
-  };
   for (int i = 0; i < steps; ++i)
   {
-    // Hair–hair: a search before each step; when pairs close fast, the step is cut into
-    // pieces that each start with a new search (HairHairContacts::updatesPerStep).
-    int pieces = 1;
-    if (Options.hairHairEnabled)
+    if (!Options.hairHairEnabled)
     {
-      if (Status s = findContacts(); !s)
+      if (Status s = stepStrands(Helices, dt, Run.threads); !s)
       {
         return s;
       }
-      pieces = HairHair.updatesPerStep(dt, Options.hairHairMaxUpdates);
+      continue;
     }
-    for (int k = 0; k < pieces; ++k)
+    // Hair–hair: the pairs that may touch within the step are found before it and solved
+    // together with it (docs/hair-hair-contacts.md).
+    const double t0 = time();
+    if (Status s = stepStrandsWithContacts(Helices, HairHair, dt, Run.threads); !s)
     {
-      if (k > 0)
-      {
-        if (Status s = findContacts(); !s)
-        {
-          return s;
-        }
-      }
-      if (Status s = stepStrands(Helices, dt / pieces, Run.threads); !s)
-      {
-        return s;
-      }
+      return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
+                           " s: " + s.message());
     }
+    HairHairWork += HairHair.stats().work;
+    HairHairDissipated += HairHair.stats().dissipated;
   }
   return Status::Ok();
 }
@@ -206,13 +191,16 @@ void SuperHelixModel::describe(StateHeader& header) const
   if (Options.hairHairEnabled)
   {
     const HairHairParameters& h = Options.hairHair;
-    at["hair_hair_thickness"] = h.thickness;
+    at["hair_hair_thickness"] = HairHairThickness;
     at["hair_hair_stiffness"] = h.stiffness;
     at["hair_hair_damping"] = h.damping;
-    at["hair_hair_friction"] = h.friction;
+    at["hair_hair_friction_coefficient"] = h.friction;
+    at["hair_hair_margin"] = h.margin;
+    at["hair_hair_head_fibres"] = HairHairParameters::HeadFibres;
     at["hair_hair_per_length"] = h.perLength ? 1 : 0;
     at["hair_hair_reference_length"] = h.referenceLength;
-    at["hair_hair_max_updates"] = Options.hairHairMaxUpdates;
+    at["hair_hair_iterations"] = h.iterations;
+    at["hair_hair_tolerance"] = h.tolerance;
   }
 }
 
@@ -296,7 +284,19 @@ EnergyBudget SuperHelixModel::energy() const
   b.add("air_dissipated", EnergyKind::Dissipation, sum.total.airDissipated);
   b.add("root_work", EnergyKind::Work, sum.total.rootWork);
   b.add("wind_work", EnergyKind::Work, sum.total.windWork);
-  b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  if (Options.hairHairEnabled)
+  {
+    // The strands' contact work holds the hair–hair forces' work too: reported apart, as
+    // the work of the penalty (what the pairs' forces did, less what their damping and
+    // friction dissipated) and that dissipation, so that works − dissipations is unchanged.
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork - HairHairWork);
+    b.add("hair_hair_work", EnergyKind::Work, HairHairWork + HairHairDissipated);
+    b.add("hair_hair_dissipated", EnergyKind::Dissipation, HairHairDissipated);
+  }
+  else
+  {
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  }
   b.add(energy::Residual, EnergyKind::Residual, sum.total.residual);
   return b;
 }

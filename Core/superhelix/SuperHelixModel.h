@@ -27,13 +27,11 @@ struct SuperHelixOptions
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the model.
   BodyContactParameters contacts;
-  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md). Before every step
-  /// the contacts are found from all strands; when pairs close fast the step is cut into up
-  /// to `hairHairMaxUpdates` pieces, each starting with a new search, so that no pair goes
-  /// deeper than `hairHair.allowedDepth` of the contact distance within one.
+  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md), solved together
+  /// with every step (stepStrandsWithContacts): the pairs that may touch within the step
+  /// are found before it, and their forces are unknowns of the step.
   bool hairHairEnabled = false;
   HairHairParameters hairHair;
-  int hairHairMaxUpdates = 8;
   /// The seam for other contact responses: a hook called for every strand at every
   /// (sub-)step right after the body's and the other strands' response, with the same
   /// samples and response buffer, to which it ADDS its own force, stiffness and damping
@@ -61,6 +59,8 @@ public:
   EnergyBudget energy() const override;
 
   const std::vector<SuperHelix>& strands() const { return Helices; }
+  /// The hair–hair contacts of the last step (when enabled).
+  const HairHairContacts& hairHair() const { return HairHair; }
 
 private:
   void respond(int strand, double t, const std::vector<StrandSample>& samples,
@@ -72,6 +72,10 @@ private:
   std::vector<SuperHelix> Helices;
   BodyContacts Body;
   HairHairContacts HairHair;
+  // Hair–hair contacts since t = 0: the work of their forces on the strands (included in
+  // the strands' contact work) and what their damping and friction dissipated [J].
+  double HairHairWork = 0, HairHairDissipated = 0;
+  double HairHairThickness = 0; // as used: the automatic one when the option is 0
 };
 
 } // namespace hair
