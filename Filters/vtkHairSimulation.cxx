@@ -82,7 +82,8 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
      << indent << "Hair-hair contacts: " << (this->HairHairContacts ? "on" : "off") << " thickness "
      << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
-     << this->HairContactDamping << " friction " << this->HairContactFriction << " per length "
+     << this->HairContactDamping << " friction coefficient " << this->HairFrictionCoefficient
+     << " iterations " << this->HairContactIterations << " per length "
      << (this->HairContactPerLength ? "on" : "off") << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n"
      << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n";
@@ -124,6 +125,7 @@ bool vtkHairSimulation::CheckProperties()
       {"Number Of Threads", double(this->NumberOfThreads), 1, 256, ""},
       {"Points Per Element", double(this->PointsPerElement), 1, 256, ""},
       {"Memory Budget", this->MemoryBudget, 0, 1e9, " MiB"},
+
   };
   for (const Range& r : ranges)
   {
@@ -335,7 +337,8 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   sh.hairHair.thickness = this->HairContactThickness;
   sh.hairHair.stiffness = this->HairContactStiffness;
   sh.hairHair.damping = this->HairContactDamping;
-  sh.hairHair.friction = this->HairContactFriction;
+  sh.hairHair.friction = this->HairFrictionCoefficient;
+  sh.hairHair.iterations = this->HairContactIterations;
   sh.hairHair.perLength = this->HairContactPerLength;
 
   // Frames stay in memory while the run fits in the budget; a longer run with a state file
