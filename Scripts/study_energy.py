@@ -28,6 +28,9 @@ Writes to the output dir: study_energy_release.csv (every dt, every step),
 study_energy_release.png (stacked budget at dt = 1/30 s and at a fine dt; residual over time;
 closure against the step), study_energy_scene.png (stacked budget of each state file),
 study_energy.txt (closures, fitted order, tolerances).
+(c) Full mode only (about 7 minutes): the demo's projective run (`hair_study demo`, the scene of
+    Scripts/demo.sh through Core: 200 guides, 40 segments, head and trunk tables, 5 s) at steps
+    of about 1, 0.5 and 0.25 ms: its residual against the step (study_energy_contact.png).
 """
 import os
 import sys
@@ -57,8 +60,11 @@ def budget(e):
     if "friction_dissipated" in e:
         stack.append(("dissipated by internal friction", e["friction_dissipated"]))
         stack.append(("dissipated by air drag", e["air_dissipated"]))
-    else:  # the projective model: angular damping only; its air drag is in wind_work
-        stack.append(("dissipated by angular damping", e["dissipated"]))
+    else:  # the projective model: its air drag is in wind_work
+        # (state files written before issue 23 have its angular damping as "dissipated")
+        stack.append(("dissipated by angular damping", e.get("damping_dissipated", e["dissipated"])))
+        if "contact_dissipated" in e and np.any(e["contact_dissipated"] != 0):
+            stack.append(("dissipated at contact events", e["contact_dissipated"]))
     projective = "friction_dissipated" not in e
     works = [("gravity's work −(gravitational − start)", -(e["gravitational"] - e["gravitational"][0]))]
     for key, label in (("root_work", "root"), ("body_work", "root (body motion)"),
@@ -266,6 +272,54 @@ def scene(tool, outdir, quick, states):
     return results, notes
 
 
+# --- (c) the projective demo's contact budget against its step ------------------------------
+
+CONTACT_RATES = [1000, 2000, 4000]  # dt = 1/k s: projective steps of 1/30/ceil(k/30) s
+
+
+def contact_steps(tool, outdir):
+    """The demo's projective run (hair_study demo: 200 guides, 40 segments, the bundled body,
+    5 s) at three steps; the budget of each."""
+    rows = []
+    for k in CONTACT_RATES:
+        path = os.path.join(outdir, f"study_energy_contact_{k}.h5")
+        studytool.run(tool, "demo", out=path, model="projective", dt=f"1/{k}", duration=5)
+        t, e, model, strands = read_state(path)
+        stack, works, work, res = budget(e)
+        throughput = e["dissipated"][-1] - min(0.0, float(e["wind_work"][-1]))
+        h = 1 / 30 / np.ceil(k / 30 - 1e-9)
+        rows.append(dict(k=k, h=h, t=t, residual=res, closure=closure(res, work),
+                         bookkeeping=bookkeeping(stack, work, res),
+                         contact_work=float(e["contact_work"][-1]),
+                         contact_dissipated=float(e["contact_dissipated"][-1]),
+                         damping=float(e["damping_dissipated"][-1]),
+                         wind=float(e["wind_work"][-1]), kinetic=float(e["kinetic"][-1]),
+                         throughput=throughput, per_throughput=float(res[-1]) / throughput))
+        os.remove(path)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.8))
+    for r, c in zip(rows, ["tab:red", "tab:orange", "tab:purple"]):
+        ax.plot(r["t"], 1e3 * r["residual"], color=c, label=f"h = {1e3 * r['h']:.3f} ms")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("residual (mJ)")
+    ax.set_title("(c) the demo's projective run: residual of the budget at three steps", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    h = np.array([r["h"] for r in rows])
+    for key, label, m in (("contact_work", "contact work", "o-"),
+                          ("contact_dissipated", "dissipated at contact events", "s-"),
+                          ("throughput", "energy dissipated (damping, contacts, air)", "^-")):
+        bx.loglog(1e3 * h, [1e3 * r[key] for r in rows], m, label=label + " at 5 s")
+    bx.loglog(1e3 * h, [-1e3 * float(r["residual"][-1]) for r in rows], "kD-", label="−residual at 5 s")
+    bx.set_xlabel("step h (ms)")
+    bx.set_ylabel("energy (mJ)")
+    bx.set_title("the flows at 5 s against the step", fontsize=10)
+    bx.grid(True, which="both", alpha=0.3)
+    bx.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "study_energy_contact.png"), dpi=100)
+    return rows
+
+
 def main():
     argv = sys.argv[1:]
     states = []
@@ -308,6 +362,17 @@ def main():
         lines.append(f"  {r['label']} ({r['model']}, {r['strands']} strands, {r['t'][-1]:.2f} s): "
                      f"closure {100 * r['closure']:.3f} %, identity {r['bookkeeping']:.1e}")
     lines += notes
+    if not quick:
+        lines += ["", "(c) the demo's projective run (200 guides, 40 segments, 5 s) at three steps:",
+                  f"{'h (ms)':>9}{'closure':>10}{'residual (mJ)':>15}{'contact work':>14}"
+                  f"{'contact diss.':>15}{'damping':>10}{'air (net)':>11}{'res./dissipated':>17}"]
+        for r in contact_steps(tool, outdir):
+            lines.append(f"{1e3 * r['h']:>9.4f}{100 * r['closure']:>9.2f}%{1e3 * r['residual'][-1]:>15.4f}"
+                         f"{1e3 * r['contact_work']:>14.3f}{1e3 * r['contact_dissipated']:>15.3f}"
+                         f"{1e3 * r['damping']:>10.3f}{1e3 * r['wind']:>11.3f}"
+                         f"{100 * r['per_throughput']:>16.2f}%")
+        lines.append("res./dissipated: the residual at 5 s over the energy dissipated by then "
+                     "(angular damping, contacts and the air's net drag)")
     studytool.write_summary(outdir, "study_energy.txt", lines)
 
 

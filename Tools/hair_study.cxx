@@ -7,14 +7,28 @@
 //   hair_study release     out=<csv> [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]
 //   hair_study scene       out=<h5>  [strands=6] [n=10] [duration=1] [dt=1/30]
 //                          [model=super-helix|projective]
+//   hair_study integrator  out=<csv> [quick=0|1] [demo=0|1] [guides=200] [seconds=5]
 //   hair_study clump       out=<csv> [quick=0|1] [strands=50] [duration=6] [ramp=3]
-//                          [updates=4] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
+//                          [updates=1] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
 //                          [contacts=1] [amplitude=0.01] [frequency=3]
+//   hair_study demo        out=<h5>  [model=projective|super-helix] [strands=200] [n=40|10]
+//                          [duration=5] [dt=1/30] [threads=2] [data=<Data dir>]
+//   hair_study oscillation out=<csv> [summary=<csv>] [shapes=<csv>] [preset=curly]
+//                          [length=0.3] [n=40] [gammas=5e-11,1e-10,5e-10] [frequencies=3]
+//                          [amplitude=0.01] [nu=<preset's>] [duration=8] [fade=1] [window=2]
+//                          [dt=1/2000] [rate=200] [integrator=semi-implicit]
+//   hair_study pendulum    out=<csv> [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5]
+//                          [length=0.3] [n=10] [duration=8] [dt=1/2000] [push=0.02]
+//                          [frequency=1] [rate=200] [integrator=semi-implicit]
+//   hair_study hairhair    out=<csv> [scene=demo|clump] [contacts=1] [body=1] [guides=200]
+//                          [threads=2] [duration=5|6] [thickness=0|1.2e-3] [stiffness=1]
+//                          [friction=0.3] [margin=0.25] [iterations=10]
 //
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
 #include "ClumpScene.h"
 #include "DemoScene.h"
+#include "analysis/StrandAnalysis.h"
 #include "contact/HairHairContacts.h"
 #include "contact/PassThrough.h"
 #include "io/StateFile.h"
@@ -667,6 +681,615 @@ int clump(const Arguments& args)
 }
 
 // ---------------------------------------------------------------------------------------
+// Study 4b, the demo's scene with its body: the guides, head and trunk tables, shake and
+// wind of Scripts/demo.sh (Testing/Fixtures/DemoScene) through Core's Simulation, stored as
+// a state file, at a chosen step: the projective model's contact budget against its step.
+
+int demo(const Arguments& args)
+{
+  int strands = 0, n = 0, threads = 0;
+  double duration = 0, dt = 0;
+  Status s = args.integer("strands", 200, 1, 10000, strands);
+  const std::string model = args.text("model", "projective");
+  if (s && model != "super-helix" && model != "projective")
+    s = Status::Error("model=" + model + " is not one of super-helix, projective.");
+  if (s)
+    s = args.integer("n", model == "projective" ? 40 : 10, 1, 400, n);
+  if (s)
+    s = args.number("duration", 5, 1.0 / 30, 1000, duration);
+  if (s)
+    s = args.number("dt", 1.0 / 30, 1e-6, 1.0 / 30, dt);
+  if (s)
+    s = args.integer("threads", 2, 1, 256, threads);
+  if (s && !args.has("out"))
+    s = Status::Error("give the output file: out=<path>.h5.");
+  if (!s)
+  {
+    std::cerr << "hair_study demo: " << s.message() << "\n";
+    return 2;
+  }
+  BundledBody body;
+  std::vector<GuideStrand> guides;
+  s = loadBundledBody(args.text("data", HAIR_DATA_DIR), body);
+  if (s)
+    s = demoGuides(body, strands, n, guides);
+  if (!s)
+  {
+    std::cerr << "hair_study demo: " << s.message() << "\n";
+    return 1;
+  }
+  SimulationOptions o;
+  o.model = model == "projective" ? ModelType::Projective : ModelType::SuperHelix;
+  o.timeStep = dt; // the projective model steps at most 1 ms, a whole number per frame
+  o.frameInterval = 1.0 / 30;
+  o.threads = threads;
+  Simulation sim;
+  StorageOptions storage;
+  storage.stateFile = args.text("out", "");
+  storage.replaceStateFile = true; // a study run again writes its own output again
+  const int frames = static_cast<int>(std::lround(duration * 30)) + 1;
+  if (s = sim.initialize(guides, demoScene(body), o, storage); s)
+    s = sim.advanceTo(frames);
+  if (!s)
+  {
+    std::cerr << "hair_study demo: " << s.message() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
+// Study 5 (issue 23): the Super-Helices paper's own experiments (Bertails et al. 2006, §4.2,
+// figs. 6 and 7), one Super-Helix standing for a clump: (a) the root oscillated vertically,
+// the clump's extent ℓ_A over time for several internal frictions γ; (b) its shape over a
+// period; (c) a pendulum released from a push, its damping time against the air friction ν.
+// docs/study-oscillation.md.
+
+/// The time step the study's strands take. Only the paper's semi-implicit step exists in this
+/// build; the option is there so that a study can name the step it used.
+Status integratorByName(const std::string& name, Integrator& integrator)
+{
+  for (Integrator i : {Integrator::SemiImplicit, Integrator::Midpoint})
+    if (name == toString(i))
+    {
+      integrator = i;
+      return Status::Ok();
+    }
+  return Status::Error("integrator=" + name + " is unknown; give semi-implicit (the paper's " +
+                       "step) or midpoint (the second-order step).");
+}
+
+/// The root frame of a hanging strand: tangent −y (gravity −y), n1 = +x.
+Eigen::Matrix3d hangingFrame()
+{
+  Eigen::Matrix3d frame;
+  frame.col(0) = -Eigen::Vector3d::UnitY();
+  frame.col(1) = Eigen::Vector3d::UnitX();
+  frame.col(2) = frame.col(0).cross(frame.col(1));
+  return frame;
+}
+
+/// A strand hanging from a root at the origin carried by `motion`, in its natural shape.
+StrandSpec hangingStrand(double length, int n, const HairParameters& hair,
+                         const RigidMotion& motion = RigidMotion::still())
+{
+  StrandSpec spec = StrandSpec::uniform(length, n, hair);
+  spec.root = motion.carriedRoot(Eigen::Vector3d::Zero(), hangingFrame());
+  return spec;
+}
+
+/// The static equilibrium of `spec`'s strand under gravity: the semi-implicit step's fixed
+/// point, reached with steps of 1 s (much longer than the strand's periods, so the step is a
+/// damped fixed-point iteration; as in the buckling study) until the tip moves by less than
+/// 1e-12 m in a step. Returns q.
+Status hangAtRest(const StrandSpec& spec, Eigen::VectorXd& q, int& steps)
+{
+  SuperHelix h;
+  if (Status s = h.initialize(spec); !s)
+    return s;
+  Eigen::Vector3d tip = h.position(h.length());
+  for (steps = 1; steps <= 5000; ++steps)
+  {
+    if (Status s = h.step(1.0); !s)
+      return s;
+    const Eigen::Vector3d next = h.position(h.length());
+    const double change = (next - tip).norm();
+    tip = next;
+    if (change < 1e-12)
+    {
+      q = h.q();
+      return Status::Ok();
+    }
+  }
+  return Status::Error("the hanging strand did not reach its static equilibrium in 5000 steps "
+                       "of 1 s; give a stiffer or shorter strand.");
+}
+
+/// The clump's shape on the polyline drawn at `perElement` points per element: its extent
+/// ℓ_A, from the root down to its lowest point along the vertical (+y); its width, the
+/// largest horizontal distance between two of its points; and its lean, the horizontal
+/// distance of the points' centroid from the vertical through the root.
+struct ClumpShape
+{
+  double extent = 0, width = 0, lean = 0;
+};
+
+ClumpShape clumpShape(const SuperHelix& h, int perElement)
+{
+  std::vector<Eigen::Vector3d> points;
+  h.polyline(perElement, points);
+  ClumpShape c;
+  double lowest = points.front().y();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points)
+  {
+    lowest = std::min(lowest, p.y());
+    centroid += p;
+  }
+  centroid /= static_cast<double>(points.size());
+  c.extent = points.front().y() - lowest;
+  c.width = horizontalDiameter(points, Eigen::Vector3d::UnitY());
+  c.lean = std::hypot(centroid.x() - points.front().x(), centroid.z() - points.front().z());
+  return c;
+}
+
+/// The clump as a uniform linear spring hanging under its own weight: its static elongation
+/// is m g / (2k), so the compliance dℓ_A/dg = m / (2k) (measured by two static equilibria at
+/// g (1 ± 1 %)) gives its first axial mode, the fixed–free heavy spring's
+/// ω1 = (π/2) √(k/m) (the wave equation along the spring), f1 = 1 / (4 √(2 dℓ_A/dg)).
+Status springFrequency(StrandSpec spec, int perElement, double& frequency)
+{
+  double extent[2];
+  const Eigen::Vector3d g = spec.gravity;
+  for (int k = 0; k < 2; ++k)
+  {
+    spec.gravity = g * (k == 0 ? 0.99 : 1.01);
+    Eigen::VectorXd q;
+    int steps = 0;
+    SuperHelix h;
+    Status s = hangAtRest(spec, q, steps);
+    if (s)
+      s = h.initialize(spec);
+    if (s)
+      s = h.setState(q, Eigen::VectorXd::Zero(q.size()));
+    if (!s)
+      return s;
+    extent[k] = clumpShape(h, perElement).extent;
+  }
+  const double compliance = (extent[1] - extent[0]) / (0.02 * g.norm());
+  frequency = compliance > 0 ? 0.25 / std::sqrt(2 * compliance) : 0;
+  return Status::Ok();
+}
+
+int oscillation(const Arguments& args)
+{
+  int n = 0;
+  double length = 0, amplitude = 0, duration = 0, dt = 0, fade = 0, rate = 0, window = 0, nu = -1;
+  std::vector<double> gammas, frequencies;
+  HairType type = HairType::Curly;
+  Integrator integrator = Integrator::SemiImplicit;
+  std::ofstream out;
+  Status s = presetByName(args.text("preset", "curly"), type);
+  if (s)
+    s = integratorByName(args.text("integrator", "semi-implicit"), integrator);
+  if (s)
+    s = args.number("length", 0.3, 1e-3, 10, length);
+  if (s)
+    s = args.integer("n", 40, 1, 400, n);
+  if (s)
+    s = args.list("gammas", {5e-11, 1e-10, 5e-10}, 0, 1e-6, gammas);
+  if (s)
+    s = args.list("frequencies", {3}, 0.01, 1000, frequencies);
+  if (s)
+    s = args.number("amplitude", 0.01, 0, 1, amplitude);
+  if (s && args.has("nu")) // otherwise the preset's
+    s = args.number("nu", 0, 0, 1, nu);
+  if (s)
+    s = args.number("duration", 8, 0.1, 1000, duration);
+  if (s)
+    s = args.number("fade", 1, 0, 100, fade);
+  if (s)
+    s = args.number("window", 2, 0.01, 1000, window);
+  if (s)
+    s = args.number("dt", 1.0 / 2000, 1e-6, 1.0 / 30, dt);
+  if (s)
+    s = args.number("rate", 200, 1, 1e6, rate);
+  if (s && window > duration - fade)
+    s = Status::Error("window=" + args.text("window", "") +
+                      " is longer than the steady part of the run (duration - fade).");
+  if (s && 2 * fade > duration)
+    s = Status::Error("fade is more than half the duration.");
+  if (s)
+    s = openOutput(args, out);
+  std::ofstream summary, shapes;
+  if (s && args.has("summary"))
+  {
+    summary.open(args.text("summary", ""));
+    if (!summary)
+      s = Status::Error("cannot write '" + args.text("summary", "") + "'.");
+    summary.precision(17);
+  }
+  if (s && args.has("shapes"))
+  {
+    shapes.open(args.text("shapes", ""));
+    if (!shapes)
+      s = Status::Error("cannot write '" + args.text("shapes", "") + "'.");
+    shapes.precision(17);
+  }
+  if (!s)
+  {
+    std::cerr << "hair_study oscillation: " << s.message() << "\n";
+    return 2;
+  }
+  constexpr int perElement = 8; // polyline points per element for ℓ_A and the shapes
+  out << "gamma,frequency_hz,time_s,root_y_m,extent_m,width_m,lean_m,tip_x_m,tip_y_m,tip_z_m\n";
+  if (summary)
+    summary << "gamma,frequency_hz,amplitude_m,nu,extent_rest_m,extent_min_m,extent_max_m,"
+               "extent_amplitude_m,width_rest_m,width_max_m,lean_rest_m,lean_max_m,static_steps,"
+               "spring_frequency_hz\n";
+  if (shapes)
+    shapes << "gamma,frequency_hz,time_s,point,x_m,y_m,z_m\n";
+  for (double f : frequencies)
+    for (double gamma : gammas)
+    {
+      HairParameters hair = HairParameters::preset(type);
+      hair.internalFriction = gamma;
+      if (nu >= 0)
+        hair.airFriction = nu;
+      // At rest in its static equilibrium, then the root oscillates vertically,
+      // d(t) = amplitude · sin(2π f t), grown from rest over `fade` seconds.
+      Eigen::VectorXd q;
+      int staticSteps = 0;
+      SuperHelix h;
+      const RigidMotion drive =
+          RigidMotion::vertical(Eigen::Vector3d::UnitY(), amplitude, f).during(0).fading(fade);
+      StrandSpec spec = hangingStrand(length, n, hair);
+      double spring = 0;
+      s = hangAtRest(spec, q, staticSteps);
+      if (s && summary)
+        s = springFrequency(spec, perElement, spring);
+      if (s)
+      {
+        spec.root = drive.carriedRoot(Eigen::Vector3d::Zero(), hangingFrame());
+        spec.integrator = integrator;
+        s = h.initialize(spec);
+      }
+      if (s)
+        s = h.setState(q, Eigen::VectorXd::Zero(q.size()));
+      if (!s)
+      {
+        std::cerr << "hair_study oscillation, gamma = " << gamma << ": " << s.message() << "\n";
+        return 1;
+      }
+      const ClumpShape rest = clumpShape(h, perElement);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo, widest = 0, leanest = 0;
+      const long steps = std::lround(duration / dt);
+      const long every = std::max(1L, std::lround(1 / (rate * dt)));
+      // Shapes: 12 instants over the last period of the run (and the end).
+      const long perPeriod = std::lround(1 / (f * dt));
+      for (long i = 0; i <= steps; ++i)
+      {
+        if (i > 0)
+          if (s = h.step(dt); !s)
+          {
+            std::cerr << "hair_study oscillation, gamma = " << gamma << ": " << s.message() << "\n";
+            return 1;
+          }
+        const double t = h.time();
+        const ClumpShape c = clumpShape(h, perElement);
+        if (t >= duration - window - 1e-9)
+        {
+          lo = std::min(lo, c.extent);
+          hi = std::max(hi, c.extent);
+          widest = std::max(widest, c.width);
+          leanest = std::max(leanest, c.lean);
+        }
+        if (i % every == 0)
+        {
+          const Eigen::Vector3d tip = h.position(h.length());
+          out << gamma << "," << f << "," << t << "," << h.rootState(t).position.y() << ","
+              << c.extent << "," << c.width << "," << c.lean << "," << tip.x() << "," << tip.y()
+              << "," << tip.z() << "\n";
+        }
+        if (shapes && i >= steps - perPeriod && (steps - i) % std::max(1L, perPeriod / 12) == 0)
+        {
+          std::vector<Eigen::Vector3d> points;
+          h.polyline(perElement, points);
+          for (std::size_t k = 0; k < points.size(); ++k)
+            shapes << gamma << "," << f << "," << t << "," << k << "," << points[k].x() << ","
+                   << points[k].y() << "," << points[k].z() << "\n";
+        }
+      }
+      if (summary)
+        summary << gamma << "," << f << "," << amplitude << "," << hair.airFriction << ","
+                << rest.extent << "," << lo << "," << hi << "," << 0.5 * (hi - lo) << ","
+                << rest.width << "," << widest << "," << rest.lean << "," << leanest << ","
+                << staticSteps << "," << spring << "\n";
+    }
+  return 0;
+}
+
+int pendulum(const Arguments& args)
+{
+  int n = 0;
+  double length = 0, duration = 0, dt = 0, push = 0, frequency = 0, rate = 0;
+  std::vector<double> nus;
+  std::vector<std::string> presets;
+  std::ofstream out;
+  Integrator integrator = Integrator::SemiImplicit;
+  Status s = integratorByName(args.text("integrator", "semi-implicit"), integrator);
+  if (s)
+  {
+    std::stringstream ss(args.text("presets", "smooth,fuzzy"));
+    std::string item;
+    HairType type;
+    while (s && std::getline(ss, item, ','))
+      if (s = presetByName(item, type); s)
+        presets.push_back(item);
+  }
+  if (s)
+    s = args.number("length", 0.3, 1e-3, 10, length);
+  if (s)
+    s = args.integer("n", 10, 1, 400, n);
+  if (s)
+    s = args.list("nus", {0, 5e-6, 1e-5, 2e-5, 5e-5}, 0, 1, nus);
+  if (s)
+    s = args.number("duration", 8, 0.1, 1000, duration);
+  if (s)
+    s = args.number("dt", 1.0 / 2000, 1e-6, 1.0 / 30, dt);
+  if (s)
+    s = args.number("push", 0.02, 0, 1, push);
+  if (s)
+    s = args.number("frequency", 1, 0.01, 100, frequency);
+  if (s)
+    s = args.number("rate", 200, 1, 1e6, rate);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study pendulum: " << s.message() << "\n";
+    return 2;
+  }
+  out << "preset,nu,gamma,linear_density,time_s,root_x_m,tip_x_m,tip_y_m,tip_z_m,energy_j\n";
+  for (const std::string& name : presets)
+    for (double nu : nus)
+    {
+      HairType type;
+      presetByName(name, type);
+      HairParameters hair = HairParameters::preset(type);
+      hair.airFriction = nu;
+      // At rest in its static equilibrium; then one period of a horizontal push of the root,
+      // x(t) = push · sin(2π f t) grown and ended by a quarter-period smoothstep, sets it
+      // swinging; afterwards the root is still and the strand swings freely.
+      Eigen::VectorXd q;
+      int staticSteps = 0;
+      StrandSpec spec = hangingStrand(length, n, hair);
+      s = hangAtRest(spec, q, staticSteps);
+      SuperHelix h;
+      if (s)
+      {
+        const RigidMotion drive = RigidMotion::vertical(Eigen::Vector3d::UnitX(), push, frequency)
+                                      .during(0, 1)
+                                      .fading(0.25 / frequency);
+        spec.root = drive.carriedRoot(Eigen::Vector3d::Zero(), hangingFrame());
+        spec.integrator = integrator;
+        s = h.initialize(spec);
+      }
+      if (s)
+        s = h.setState(q, Eigen::VectorXd::Zero(q.size()));
+      const long steps = std::lround(duration / dt);
+      const long every = std::max(1L, std::lround(1 / (rate * dt)));
+      // The swing's energy: the strand's mechanical energy above its static equilibrium (the
+      // root is back at rest after the push, so the equilibrium is the one it started from).
+      const double rest = h.energy().mechanical();
+      for (long i = 0; s && i <= steps; ++i)
+      {
+        if (i > 0)
+          s = h.step(dt);
+        if (s && i % every == 0)
+        {
+          const double t = h.time();
+          const Eigen::Vector3d tip = h.position(h.length());
+          out << name << "," << nu << "," << hair.internalFriction << "," << hair.linearDensity()
+              << "," << t << "," << h.rootState(t).position.x() << "," << tip.x() << "," << tip.y()
+              << "," << tip.z() << "," << h.energy().mechanical() - rest << "\n";
+        }
+      }
+      if (!s)
+      {
+        std::cerr << "hair_study pendulum, " << name << ", nu = " << nu << ": " << s.message()
+                  << "\n";
+        return 1;
+      }
+    }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
+// Issue 23: the two time steps measured side by side (docs/super-helix.md, "The
+// second-order step", "Accuracy on request"). One CSV row per run:
+//   case, integrator, dt_s, tolerance_m_per_s, figure, value, steps, rejected, first_order,
+//   wall_s
+// release: a 30 cm smooth strand clamped horizontally, no friction, no air, 2 s; figure
+//   residual_share = residual / gravitational energy released at 2 s.
+// tip: the same strand with air drag 1e-5 kg/(m·s), 1 s, frames of 1/30 s; figure
+//   tip_error_m = the largest distance of its tip from that of the second-order step at
+//   1/7680 s over the frames (the reference, itself within 2.8e-5 m of 1/15360 s).
+// tolerance: the tip's strand in frames of 1/30 s with advance(1/30, tolerance/30).
+// demo (demo=1): the demo scene (Testing/Fixtures/DemoScene: wavy guides on the bundled
+//   body's scalp, head and trunk tables, ±0.5 rad 1 Hz shake, 0.5 m/s wind) through
+//   Simulation, `seconds` long, with and without contacts; figure closure = max |residual| /
+//   max |work done on the hair|, and the cost per simulated second.
+// quick=1: fewer step sizes and tolerances (seconds of run time).
+
+struct IntegratorRun
+{
+  std::vector<Eigen::Vector3d> tips;
+  double residualShare = 0, wall = 0;
+  long steps = 0, rejected = 0, firstOrder = 0;
+};
+
+IntegratorRun releasedStrand(Integrator integrator, double air, double seconds, int perFrame,
+                             double tolerance, Status& st)
+{
+  HairParameters p = HairParameters::preset(HairType::Smooth);
+  p.curvatureVariation = 0;
+  p.internalFriction = 0;
+  p.airFriction = air;
+  StrandSpec spec = StrandSpec::uniform(0.3, 10, p);
+  spec.integrator = integrator;
+  SuperHelix h;
+  IntegratorRun r;
+  if (st = h.initialize(spec); !st)
+    return r;
+  const double g0 = h.energy().gravitational;
+  const double dt = 1.0 / (30 * perFrame);
+  r.tips.push_back(h.position(0.3));
+  const auto start = std::chrono::steady_clock::now();
+  const long frames = std::lround(seconds * 30);
+  for (long f = 0; f < frames; ++f)
+  {
+    for (int k = 0; k < perFrame; ++k)
+    {
+      if (st = h.advance(dt, tolerance * dt); !st)
+        return r;
+      r.steps += h.lastSubsteps();
+      r.rejected += h.lastRejected();
+      r.firstOrder += h.lastFirstOrder();
+    }
+    r.tips.push_back(h.position(0.3));
+  }
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.residualShare = h.energy().total.residual / (g0 - h.energy().gravitational);
+  return r;
+}
+
+int integrator(const Arguments& args)
+{
+  int quick = 0, demo = 0, guides = 0;
+  double seconds = 0;
+  std::ofstream out;
+  Status s = args.integer("quick", 0, 0, 1, quick);
+  if (s)
+    s = args.integer("demo", 0, 0, 1, demo);
+  if (s)
+    s = args.integer("guides", 200, 1, 10000, guides);
+  if (s)
+    s = args.number("seconds", 5, 1.0 / 30, 100, seconds);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study integrator: " << s.message() << "\n";
+    return 2;
+  }
+  out << "case,integrator,dt_s,tolerance_m_per_s,figure,value,steps,rejected,first_order,wall_s\n";
+  const Integrator both[] = {Integrator::SemiImplicit, Integrator::Midpoint};
+  auto row = [&](const char* what, Integrator in, double dt, double tol, const char* figure,
+                 double value, const IntegratorRun& r)
+  {
+    out << what << "," << toString(in) << "," << dt << "," << tol << "," << figure << "," << value
+        << "," << r.steps << "," << r.rejected << "," << r.firstOrder << "," << r.wall << "\n";
+  };
+  auto fail = [&](const Status& st)
+  {
+    std::cerr << "hair_study integrator: " << st.message() << "\n";
+    return 1;
+  };
+  const std::vector<int> perFrame =
+      quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128};
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      Status st;
+      const IntegratorRun r = releasedStrand(in, 0, 2, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("release", in, 1.0 / (30 * per), 0, "residual_share", r.residualShare, r);
+    }
+  Status st;
+  const IntegratorRun ref = releasedStrand(Integrator::Midpoint, 1e-5, 1, 256, 0, st);
+  if (!st)
+    return fail(st);
+  auto tipError = [&](const IntegratorRun& r)
+  {
+    double e = 0;
+    for (size_t i = 0; i < r.tips.size() && i < ref.tips.size(); ++i)
+      e = std::max(e, (r.tips[i] - ref.tips[i]).norm());
+    return e;
+  };
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      if (per > 64)
+        continue;
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("tip", in, 1.0 / (30 * per), 0, "tip_error_m", tipError(r), r);
+    }
+  const std::vector<double> tolerances = quick
+                                             ? std::vector<double>{0.05, 0.005}
+                                             : std::vector<double>{0.05, 0.02, 0.01, 0.005, 0.002};
+  for (Integrator in : both)
+    for (double tol : tolerances)
+    {
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, 1, tol, st);
+      if (!st)
+        return fail(st);
+      row("tolerance", in, 1.0 / 30, tol, "tip_error_m", tipError(r), r);
+    }
+  if (!demo)
+    return 0;
+  BundledBody body;
+  if (st = loadBundledBody(HAIR_DATA_DIR, body); !st)
+    return fail(st);
+  std::vector<GuideStrand> demoStrands;
+  if (st = demoGuides(body, guides, 10, demoStrands); !st)
+    return fail(st);
+  for (int contacts : {1, 0})
+    for (Integrator in : both)
+      for (double tol : {0.0, 0.005})
+      {
+        SimulationOptions o;
+        o.threads = 1;
+        o.superHelix.integrator = in;
+        o.superHelix.tolerance = tol;
+        o.superHelix.contacts.enabled = contacts != 0;
+        Simulation sim;
+        if (st = sim.initialize(demoStrands, demoScene(body), o); !st)
+          return fail(st);
+        const auto start = std::chrono::steady_clock::now();
+        if (st = sim.advanceTo(static_cast<int>(std::lround(seconds * 30)) + 1); !st)
+          return fail(st);
+        IntegratorRun r;
+        r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::vector<double> times;
+        std::map<std::string, std::vector<double>> c;
+        sim.energyTable(times, c);
+        double residual = 0, work = 0, substeps = 0, rejected = 0, firstOrder = 0;
+        for (size_t i = 0; i < times.size(); ++i)
+        {
+          const double w = -(c["gravitational"][i] - c["gravitational"][0]) + c["root_work"][i] +
+                           c["wind_work"][i] + c["contact_work"][i];
+          residual = std::max(residual, std::abs(c["residual"][i]));
+          work = std::max(work, std::abs(w));
+          substeps += c["substeps"][i];
+          rejected += c["rejected_substeps"][i];
+          firstOrder += c["first_order_share"][i] * c["substeps"][i];
+        }
+        // Per strand and simulated second.
+        r.steps = std::lround(substeps / seconds);
+        r.rejected = std::lround(rejected / seconds);
+        r.firstOrder = std::lround(firstOrder / seconds);
+        r.wall /= seconds;
+        row(contacts ? "demo_contacts" : "demo_no_contacts", in, 1.0 / 30, tol, "closure",
+            residual / work, r);
+      }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
 // Hair–hair contacts (docs/hair-hair-contacts.md): the demo's head shake on the bundled body
 // or the dense shaken clump, per frame: pairs of guide pieces that went through each other
 // since the previous frame, the body's penetration, the contacts; the energy budget at the
@@ -866,18 +1489,33 @@ int hairhair(const Arguments& args)
 
 int usage()
 {
-  std::cerr << "usage: hair_study <convergence|buckling|release|scene|clump> out=<file> "
-               "[key=value ...]\n"
-               "  convergence [ns=1,2,...,40] [length=0.1]\n"
-               "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
-               "              [dt=100] [maxsteps=20000] [tol=1e-13]\n"
-               "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
-               "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
-               "              (out=<file>.h5)\n"
-               "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=1]\n"
-               "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
-               "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
-               "              [amplitude=0.01] [frequency=3]\n";
+  std::cerr
+      << "usage: hair_study <convergence|buckling|release|scene|integrator|clump|demo|oscillation|"
+         "pendulum|hairhair> out=<file> "
+         "[key=value ...]\n"
+         "  convergence [ns=1,2,...,40] [length=0.1]\n"
+         "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
+         "              [dt=100] [maxsteps=20000] [tol=1e-13]\n"
+         "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
+         "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
+         "              (out=<file>.h5)\n"
+         "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
+         "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=1]\n"
+         "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
+         "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
+         "              [amplitude=0.01] [frequency=3]\n"
+         "  demo        [model=projective] [strands=200] [n=40] [duration=5] [dt=1/30]\n"
+         "              [threads=2] [data=<Data dir>] (out=<file>.h5)\n"
+         "  oscillation [summary=<csv>] [shapes=<csv>] [preset=curly] [length=0.3] [n=40]\n"
+         "              [gammas=5e-11,1e-10,5e-10] [frequencies=3] [amplitude=0.01] [nu=]\n"
+         "              [duration=8] [fade=1] [window=2] [dt=1/2000] [rate=200]\n"
+         "              [integrator=semi-implicit]\n"
+         "  pendulum    [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5] [length=0.3]\n"
+         "              [n=10] [duration=8] [dt=1/2000] [push=0.02] [frequency=1]\n"
+         "              [rate=200] [integrator=semi-implicit]\n"
+         "  hairhair    [scene=demo|clump] [contacts=1] [body=1] [guides=200] [threads=2]\n"
+         "              [duration=5 (demo), 6 (clump)] [thickness=0 (demo), 1.2e-3 (clump)]\n"
+         "              [stiffness=1] [friction=0.3] [margin=0.25] [iterations=10]\n";
   return 2;
 }
 
@@ -893,6 +1531,16 @@ int main(int argc, char** argv)
        {"buckling", {{"out", "n", "loads", "tilt", "length", "dt", "maxsteps", "tol"}, buckling}},
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
+       {"integrator", {{"out", "quick", "demo", "guides", "seconds"}, integrator}},
+       {"demo", {{"out", "strands", "n", "duration", "dt", "model", "threads", "data"}, demo}},
+       {"oscillation",
+        {{"out", "summary", "shapes", "preset", "integrator", "length", "n", "gammas",
+          "frequencies", "amplitude", "nu", "duration", "fade", "window", "dt", "rate"},
+         oscillation}},
+       {"pendulum",
+        {{"out", "integrator", "presets", "length", "n", "nus", "duration", "dt", "push",
+          "frequency", "rate"},
+         pendulum}},
        {"clump",
         {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
           "contacts", "perlength", "reflength", "amplitude", "frequency"},

@@ -21,10 +21,13 @@ struct ReactionConstraintOptions
 /// to the surface), T the nearest surface point and N the outward unit normal there:
 ///   F_out = F_in − (F_in·N) N − (k (P − T)·N + c V·N) N
 /// With `inelastic`, when F_in·N ≥ 0 (the input force already lifts the node away) the
-/// constraint is not applied and F_out = F_in.
+/// constraint is not applied and F_out = F_in. `damping` (optional) receives the damper's
+/// part of F_out − F_in, −c (V·N) N (zero when the constraint is not applied), for energy
+/// budgets that report what the damper dissipates.
 Eigen::Vector3d reactionConstraint(const Eigen::Vector3d& forceIn, const Eigen::Vector3d& velocity,
                                    const Eigen::Vector3d& position, const Eigen::Vector3d& nearest,
                                    const Eigen::Vector3d& normal,
-                                   const ReactionConstraintOptions& options = {});
+                                   const ReactionConstraintOptions& options = {},
+                                   Eigen::Vector3d* damping = nullptr);
 
 } // namespace hair

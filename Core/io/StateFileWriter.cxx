@@ -218,54 +218,68 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
     return fail("cannot be created: check that its folder exists and is writable, and that no "
                 "other run is writing the same file.");
   }
-  P->Header = header;
-  P->Path = path;
-  const hid_t f = P->File.get();
-  if (Status s = writeRootAttributes(f, header); !s)
+  // HDF5's error stack is never printed: each failure is returned as a message.
+  Status made = Status::Ok();
+  H5E_BEGIN_TRY
   {
-    return fail(s.message());
+    made = [&]() -> Status
+    {
+      P->Header = header;
+      P->Path = path;
+      const hid_t f = P->File.get();
+      if (Status s = writeRootAttributes(f, header); !s)
+      {
+        return fail(s.message());
+      }
+      Handle strands(H5Gcreate2(f, sf::Strands, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      if (Status s = writeStrands(strands.get(), header); !s)
+      {
+        return fail(s.message());
+      }
+      const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
+      P->Time = createGrowing(f, sf::Time, {});
+      P->Positions = createGrowing(frames.get(), sf::Positions, {points, 3});
+      P->Velocities = createGrowing(frames.get(), sf::Velocities, {points, 3});
+      if (header.coordinatesPerStrand > 0)
+      {
+        const hsize_t c = hsize_t(header.coordinatesPerStrand);
+        P->Q = createGrowing(frames.get(), sf::Q, {strandCount, c});
+        P->QDot = createGrowing(frames.get(), sf::QDot, {strandCount, c});
+      }
+      if (!createRootFrames(frames.get(), header, P->RootFrames, P->RootVelocities))
+      {
+        return fail("cannot create the root datasets.");
+      }
+      if (Status s = createPointData(frames.get(), header, P->PointData); !s)
+      {
+        return fail(s.message());
+      }
+      if (Status s = createEnergy(energy.get(), extraEnergyTerms, P->Energy); !s)
+      {
+        return fail(s.message());
+      }
+      if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
+          (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
+      {
+        return fail("cannot create the per-frame datasets.");
+      }
+      strands.reset();
+      frames.reset();
+      energy.reset();
+      return Status::Ok();
+    }();
   }
-  Handle strands(H5Gcreate2(f, sf::Strands, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  if (Status s = writeStrands(strands.get(), header); !s)
+  H5E_END_TRY;
+  if (!made)
   {
-    return fail(s.message());
+    return made;
   }
-  const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
-  P->Time = createGrowing(f, sf::Time, {});
-  P->Positions = createGrowing(frames.get(), sf::Positions, {points, 3});
-  P->Velocities = createGrowing(frames.get(), sf::Velocities, {points, 3});
-  if (header.coordinatesPerStrand > 0)
-  {
-    const hsize_t c = hsize_t(header.coordinatesPerStrand);
-    P->Q = createGrowing(frames.get(), sf::Q, {strandCount, c});
-    P->QDot = createGrowing(frames.get(), sf::QDot, {strandCount, c});
-  }
-  if (!createRootFrames(frames.get(), header, P->RootFrames, P->RootVelocities))
-  {
-    return fail("cannot create the root datasets.");
-  }
-  if (Status s = createPointData(frames.get(), header, P->PointData); !s)
-  {
-    return fail(s.message());
-  }
-  if (Status s = createEnergy(energy.get(), extraEnergyTerms, P->Energy); !s)
-  {
-    return fail(s.message());
-  }
-  if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
-      (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
-  {
-    return fail("cannot create the per-frame datasets.");
-  }
-  strands.reset();
-  frames.reset();
-  energy.reset();
   herr_t swmr;
   H5E_BEGIN_TRY
   {
-    swmr = H5Fstart_swmr_write(f);
+    swmr = H5Fstart_swmr_write(P->File.get());
   }
   H5E_END_TRY;
   if (swmr < 0)

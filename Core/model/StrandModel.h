@@ -11,6 +11,7 @@
 #include "scene/Scene.h"
 #include "strands/GuideStrand.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,10 @@ public:
   virtual void writeFrame(StateFrame& frame) const = 0;
   /// The energy budget now (works and dissipations since t = 0).
   virtual EnergyBudget energy() const = 0;
+  /// How the model stepped since the previous frame, as named numbers for the energy table
+  /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
+  /// empty for a model that reports none.
+  virtual std::map<std::string, double> stepStatistics() const { return {}; }
 };
 
 } // namespace hair

@@ -31,6 +31,7 @@ void ProjectiveStrands::place(Strand& s, const StepFrame& f, ProjectiveStepStats
     return;
   }
   double before = 0;
+  const double inelasticBefore = s.inelasticDissipated;
   bool projected = false;
   s.P[0] = root;
   s.R[0] = rootFrame;
@@ -145,6 +146,9 @@ void ProjectiveStrands::place(Strand& s, const StepFrame& f, ProjectiveStepStats
       if (vn < 0 && jac.squaredNorm() > 0)
       {
         const Eigen::Vector2d change = -(vn / jac.squaredNorm()) * jac;
+        // The segment's kinetic energy ½ I |q̇|² loses ½ I (J·q̇)²/|J|² (≥ 0): what the
+        // inelastic rule dissipates.
+        s.inelasticDissipated += 0.5 * s.inertia[i - 1] * vn * vn / jac.squaredNorm();
         s.qd[i - 1] += change;
         parentSpin = wt * change.x() + wp * change.y();
       }
@@ -160,7 +164,9 @@ void ProjectiveStrands::place(Strand& s, const StepFrame& f, ProjectiveStepStats
   }
   if (projected)
   {
-    const double work = strandEnergy(s) - before;
+    // The projections' change of energy, less what the inelastic rule dissipated: the work
+    // of moving the nodes back out (and of keeping the carried segments' directions and spin).
+    const double work = strandEnergy(s) - before + (s.inelasticDissipated - inelasticBefore);
     s.contactWork += work;
     s.projectionWork += work;
   }

@@ -135,7 +135,8 @@ EnergyBudget ProjectiveModel::energy() const
   b.add(energy::Kinetic, EnergyKind::State, e.kinetic);
   b.add(energy::Elastic, EnergyKind::State, e.elastic);
   b.add(energy::Gravitational, EnergyKind::State, e.gravitational);
-  b.add(energy::Dissipated, EnergyKind::Dissipation, e.dissipated); // its one dissipation
+  b.add("damping_dissipated", EnergyKind::Dissipation, e.dissipated);
+  b.add("contact_dissipated", EnergyKind::Dissipation, e.contactDissipated);
   b.add("body_work", EnergyKind::Work, e.bodyWork);
   b.add("wind_work", EnergyKind::Work, e.windWork);
   b.add("contact_work", EnergyKind::Work, e.contactWork);

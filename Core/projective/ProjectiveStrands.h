@@ -41,9 +41,11 @@ struct ProjectiveOptions
 
 /// Energies (J) and cumulated works (J) since the start. With
 ///   E = kinetic + gravitational + elastic,
-/// the budget E(t) − E(0) = bodyWork + windWork + contactWork − dissipated + residual
-/// closes by definition of `residual`, which is the explicit integrator's error (it stays
-/// O(h) and does not drift: see docs/projective-strands.md).
+/// the budget
+///   E(t) − E(0) = bodyWork + windWork + contactWork − dissipated − contactDissipated
+///                 + residual
+/// closes by definition of `residual`, which is the explicit integrator's error (first
+/// order in h: see docs/projective-strands.md, "Energy report").
 struct ProjectiveEnergy
 {
   double time = 0;
@@ -53,9 +55,15 @@ struct ProjectiveEnergy
   double dissipated = 0;    ///< ∫ Σ γ_i |q̇_i|² dt: angular damping (≥ 0)
   double bodyWork = 0;      ///< work of the moving roots: inertial force and carried frames
   double windWork = 0;      ///< work of the air drag (negative in still air: air damping)
-  double contactWork = 0;   ///< work of the reaction constraint and of the projections
+  /// Work of the contacts less what they dissipate: of the reaction constraint's holding
+  /// and spring forces, and of the projections (moving nodes back out)
+  double contactWork = 0;
   double projectionWork = 0; ///< the part of contactWork done by the projections
-  double residual = 0;       ///< E − E(0) − (works − dissipated)
+  /// Energy lost in contact events: what the reaction constraint's damper takes and what the
+  /// projections' inelastic rule takes from the rates (≥ 0)
+  double contactDissipated = 0;
+  double inelasticDissipated = 0; ///< the part of contactDissipated by the inelastic rule
+  double residual = 0;            ///< E − E(0) − (works − dissipated)
   /// (h/2) Σ q̇·Q_cons: with it, E + shadow is the quantity the symplectic Euler scheme
   /// keeps (its modified energy, to O(h²)); without driving it never increases.
   double shadow = 0;
@@ -145,6 +153,7 @@ private:
     // Scratch (per strand, so threads never share).
     std::vector<Eigen::Vector3d> v;
     double dissipated = 0, bodyWork = 0, windWork = 0, contactWork = 0, projectionWork = 0;
+    double constraintDissipated = 0, inelasticDissipated = 0;
   };
   /// Everything a step needs that does not depend on the strand.
   struct StepFrame

@@ -1,11 +1,13 @@
 #include "simulation/Simulation.h"
 
 #include "collision/PosedPart.h"
+#include "common/Machine.h"
 #include "common/Parallel.h"
 #include "strands/StrandParameters.h"
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace hair
 {
@@ -20,6 +22,7 @@ struct Simulation::Impl
   FrameStore Store;
   std::vector<long> Contacts;
   std::vector<double> Depth;
+  std::vector<std::map<std::string, double>> Steps; ///< the model's stepStatistics per frame
   Status Failed; ///< set when a step failed: the strands may then be at different times
 
   /// The model's state now as a frame, with the penetration into the scene's parts at the
@@ -34,6 +37,7 @@ StateFrame Simulation::Impl::record()
   Model->writeFrame(f);
   f.time = Model->time();
   f.energy = Model->energy().values();
+  Steps.push_back(Model->stepStatistics());
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
   std::vector<double>& depthOf = f.pointData["contact_depth"];
@@ -99,6 +103,43 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
 Simulation::Simulation() : P(std::make_unique<Impl>()) {}
 Simulation::~Simulation() = default;
 
+Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationOptions& options,
+                      double availableBytes)
+{
+  // Measured with hair_study scene (200 and 400 wavy strands of 10, 50 and 100 elements, two
+  // frames, maximum resident memory): the Super-Helix model takes about 2.6 kB per element,
+  // the projective one 0.7 kB per segment; a frame's point takes its position and velocity
+  // and a few per-point scalars, about 80 bytes.
+  const bool superHelix = options.model == ModelType::SuperHelix;
+  const double perElement = superHelix ? 2600 : 700, perPoint = 80;
+  const int per = superHelix ? std::max(1, options.superHelix.pointsPerElement) : 1;
+  double elements = 0, points = 0;
+  for (const GuideStrand& g : strands)
+  {
+    elements += g.elements;
+    points += double(g.elements) * per + 1;
+  }
+  const double need = elements * perElement + 2 * points * perPoint;
+  if (need <= 0.75 * availableBytes)
+  {
+    return Status::Ok();
+  }
+  auto gb = [](double bytes)
+  {
+    std::ostringstream m;
+    m.precision(3);
+    m << bytes / 1e9 << " GB";
+    return m.str();
+  };
+  std::ostringstream m;
+  m << "the run's " << strands.size() << " strands of " << strands[0].elements
+    << " elements would need about " << gb(need) << " of memory to start (the model, "
+    << gb(elements * perElement) << ", and its first frame of " << points << " points), more "
+    << "than three quarters of this machine's " << gb(availableBytes)
+    << ": use fewer strands, fewer elements or fewer points per element.";
+  return Status::Error(m.str());
+}
+
 Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Scene& scene,
                               const SimulationOptions& options, const StorageOptions& storage)
 {
@@ -127,6 +168,10 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
     }
   }
   if (Status s = scene.validate(); !s)
+  {
+    return s;
+  }
+  if (Status s = checkRunMemory(strands, options, physicalMemoryBytes()); !s)
   {
     return s;
   }
@@ -245,6 +290,10 @@ void Simulation::energyTable(std::vector<double>& times,
     }
     columns["nodes_inside"].push_back(static_cast<double>(P->Contacts[f]));
     columns["max_depth"].push_back(P->Depth[f]);
+    for (const auto& [name, value] : P->Steps[f])
+    {
+      columns[name].push_back(value);
+    }
   }
 }
 

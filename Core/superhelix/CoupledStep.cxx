@@ -6,6 +6,7 @@
 
 #include "superhelix/SuperHelixInternal.h"
 
+#include <limits>
 #include <sstream>
 
 namespace hair
@@ -24,8 +25,12 @@ Status SuperHelix::beginStep(double h)
     bool& contactsSet;
     ~EndOfStep() { contactsSet = false; }
   } endOfStep{ContactsSet};
+  // The semi-implicit step, whatever the integrator: the coupling solve needs its
+  // linearization (a strand that ends up carrying no coupling force may take its own step
+  // instead, endStep).
   Eigen::VectorXd qd;
-  if (Status st = prepareStep(h, qd); !st)
+  bool declined = false, solveFailed = false;
+  if (Status st = prepareStep(h, Time, false, qd, declined, solveFailed); !st)
     return st;
   endVelocities(qd, Pending.free);
   detail::StepWorkspace& ws = detail::stepWorkspace();
@@ -139,6 +144,13 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
                          "': endStep without beginStep; begin the coupled step first.");
   Pending.active = false;
   const bool none = samples.empty() && forces.empty() && response.size() == 0;
+  // A strand without coupling forces takes the step its integrator asks for: with
+  // Integrator::Midpoint the second-order one (itself semi-implicit where the strand touches
+  // the body); the semi-implicit step begun is what it would commit otherwise. (Its pairs were
+  // searched along the semi-implicit step's motion; the detection's margin covers the
+  // difference, docs/hair-hair-contacts.md.)
+  if (none && Spec.integrator == Integrator::Midpoint)
+    return singleStep(Pending.h);
   if (!none && (forces.size() != samples.size() || response.size() != Q.size()))
     return Status::Error(
         "strand '" + Spec.name + "': endStep got " + std::to_string(forces.size()) +
@@ -166,16 +178,13 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
     ws.ContactBuffer[samples[k]].force += forces[k] / nd.w;
     nd.hasF = nd.hasF || !forces[k].isZero(0);
   }
-  ContactsSet = true;
-  struct EndOfStep
-  {
-    bool& contactsSet;
-    ~EndOfStep() { contactsSet = false; }
-  } endOfStep{ContactsSet};
-  if (none)
-    return commitStep(Pending.h, Pending.qdot);
-  const Eigen::VectorXd qd = Pending.qdot + response;
-  return commitStep(Pending.h, qd);
+  ContactsSet = true; // attemptStep clears it when it ends
+  LastSubsteps = 1;
+  LastRejected = 0;
+  LastFirstOrder = 1; // the semi-implicit step
+  Outcome outcome = Outcome::Committed;
+  const Eigen::VectorXd qd = none ? Pending.qdot : Eigen::VectorXd(Pending.qdot + response);
+  return attemptStep(Pending.h, false, std::numeric_limits<double>::infinity(), outcome, &qd);
 }
 
 } // namespace hair

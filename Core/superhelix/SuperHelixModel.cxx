@@ -25,6 +25,20 @@ Status SuperHelixOptions::validate() const
       << QuadratureChooser::MaxTolerance << " is the fastest.";
     return Status::Error(s.str());
   }
+  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
+  {
+    return Status::Error("the integrator " + std::to_string(static_cast<int>(integrator)) +
+                         " is not a time step: give 0 (semi-implicit, the paper's) or 1 "
+                         "(second order, midpoint).");
+  }
+  if (!(std::isfinite(tolerance) && tolerance >= 0))
+  {
+    std::ostringstream s;
+    s << "the tolerance " << tolerance
+      << " m/s is not a distance per second >= 0; give 0 for fixed steps or the error the "
+         "steps may add per second of simulated time, e.g. 5e-3.";
+    return Status::Error(s.str());
+  }
   if (pointsPerElement < 1)
   {
     return Status::Error("at least one display point per element is needed.");
@@ -38,6 +52,17 @@ Status SuperHelixOptions::validate() const
     if (Status s = hairHair.validate(); !s)
     {
       return Status::Error("hair–hair contacts: " + s.message());
+    }
+    // The coupled step (stepStrandsWithContacts) advances all strands together by whole
+    // steps: one strand cannot take sub-steps of its own.
+    if (tolerance > 0)
+    {
+      std::ostringstream s;
+      s << "the tolerance " << tolerance
+        << " m/s asks for sub-steps, which the step with hair–hair contacts does not take "
+           "(all strands step together); set the tolerance to 0, or turn hair–hair contacts "
+           "off, or shorten the time step instead.";
+      return Status::Error(s.str());
     }
   }
   return Status::Ok();
@@ -100,6 +125,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
       spec.windField = World.air.field();
     }
     spec.quadratureTolerance = Options.quadratureTolerance;
+    spec.integrator = Options.integrator;
     spec.root = World.rootMotion.carriedRoot(g.root, g.rootFrame());
     if (Status s = Helices[k].initialize(spec, 0.0); !s)
     {
@@ -139,14 +165,18 @@ Status SuperHelixModel::advanceTo(double target)
   const int steps =
       std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
   const double dt = (target - time()) / steps;
+  Substeps = Rejected = FirstOrder = 0;
+  FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
     if (!Options.hairHairEnabled)
     {
-      if (Status s = stepStrands(Helices, dt, Run.threads); !s)
+      // The tolerance is per second of simulated time: each step gets its share.
+      if (Status s = stepStrands(Helices, dt, Run.threads, Options.tolerance * dt); !s)
       {
         return s;
       }
+      tally();
       continue;
     }
     // Hair–hair: the pairs that may touch within the step are found before it and solved
@@ -157,10 +187,37 @@ Status SuperHelixModel::advanceTo(double target)
       return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
                            " s: " + s.message());
     }
+    tally();
     HairHairWork += HairHair.stats().work;
     HairHairDissipated += HairHair.stats().dissipated;
   }
   return Status::Ok();
+}
+
+void SuperHelixModel::tally()
+{
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    const SuperHelix& h = Helices[k];
+    Substeps += h.lastSubsteps();
+    Rejected += h.lastRejected();
+    FirstOrder += h.lastFirstOrder();
+    FrameError[k] += h.lastErrorEstimate();
+  }
+}
+
+std::map<std::string, double> SuperHelixModel::stepStatistics() const
+{
+  const double strands = std::max<std::size_t>(1, Helices.size());
+  double error = 0;
+  for (double e : FrameError)
+  {
+    error = std::max(error, e);
+  }
+  return {{"substeps", Substeps / strands},
+          {"rejected_substeps", Rejected / strands},
+          {"first_order_share", Substeps > 0 ? FirstOrder / Substeps : 0.0},
+          {"error_estimate", error}};
 }
 
 void SuperHelixModel::describe(StateHeader& header) const
@@ -179,6 +236,8 @@ void SuperHelixModel::describe(StateHeader& header) const
   auto& at = header.attributes;
   at["points_per_element"] = Options.pointsPerElement;
   at["quadrature_tolerance"] = Options.quadratureTolerance;
+  at["integrator"] = static_cast<int>(Options.integrator);
+  at["tolerance"] = Options.tolerance;
   const BodyContactParameters& c = Options.contacts;
   at["contacts"] = c.enabled ? 1 : 0;
   at["contact_stiffness"] = c.stiffness;

@@ -578,6 +578,86 @@ TEST(HairHairContacts, AStrandDrivenThroughAnotherIsStoppedWithinTheStep)
               1e3 * closest, passes, 1e3 * closestFree, passesFree);
 }
 
+TEST(HairHairContacts, WithTheMidpointIntegratorStrandsInContactStepSemiImplicitly)
+{
+  // Integrator::Midpoint (docs/super-helix.md, "The second-order step") leaves a stiff
+  // penalty mode ringing, so a strand touching anything takes the semi-implicit step; the
+  // coupled solve is that step's (docs/hair-hair-contacts.md, "With the second-order step").
+  // The drive-through pair with the midpoint integrator, and a third strand far from both:
+  // the pair is stopped as with the semi-implicit step, each step of A and B that carries a
+  // hair–hair force is taken first order, and the far strand takes the second-order step,
+  // the same as stepped alone (to round-off).
+  HairParameters hair = HairParameters::roundStraight();
+  auto make = [&](int id, const RootState& r0, const Eigen::Vector3d& velocity, SuperHelix& h)
+  {
+    StrandSpec s = StrandSpec::uniform(0.2, 10, hair);
+    s.id = id;
+    s.integrator = Integrator::Midpoint;
+    s.root = [r0, velocity](double t)
+    {
+      RootState r = r0;
+      r.position += velocity * t;
+      r.velocity = velocity;
+      return r;
+    };
+    return h.initialize(s);
+  };
+  RootState ra, rb, rc;
+  ra.position = Eigen::Vector3d(-0.1025, 0.01, 0.1025);
+  ra.orientation = frameWithTangent({1, 0, 0});
+  rb.orientation = frameWithTangent({0, 0, 1});
+  // C hangs (gravity on) 1 m away, so that its step is not trivial.
+  rc.position = Eigen::Vector3d(1, 0, 0);
+  rc.orientation = frameWithTangent({1, 0, 0.2});
+  std::vector<SuperHelix> strands(3);
+  SuperHelix alone;
+  const Eigen::Vector3d down(0, -0.6, 0);
+  ASSERT_TRUE(make(0, ra, down, strands[0]).ok());
+  ASSERT_TRUE(make(1, rb, Eigen::Vector3d::Zero(), strands[1]).ok());
+  ASSERT_TRUE(make(2, rc, Eigen::Vector3d::Zero(), strands[2]).ok());
+  ASSERT_TRUE(make(2, rc, Eigen::Vector3d::Zero(), alone).ok());
+  HairHairContacts contacts;
+  HairHairParameters p;
+  p.thickness = 2.5e-3;
+  ASSERT_TRUE(contacts.setParameters(p).ok());
+  long passes = 0;
+  int coupledSteps = 0, coupledFirstOrder = 0, farSecondOrder = 0, aloneSecondOrder = 0;
+  double closest = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<Eigen::Vector3d>> before = drawn(strands);
+  const int frames = 6;
+  for (int f = 0; f < frames; ++f)
+  {
+    Status st = stepStrandsWithContacts(strands, contacts, Dt, 1);
+    ASSERT_TRUE(st.ok()) << st.message();
+    ASSERT_TRUE((st = alone.step(Dt)).ok()) << st.message();
+    for (int i = 0; i < 2; ++i)
+      if (!contacts.couplingSamples(i).empty())
+      {
+        ++coupledSteps;
+        coupledFirstOrder += strands[i].lastFirstOrder();
+      }
+    EXPECT_TRUE(contacts.couplingSamples(2).empty());
+    farSecondOrder += strands[2].lastFirstOrder() == 0 ? 1 : 0;
+    aloneSecondOrder += alone.lastFirstOrder() == 0 ? 1 : 0;
+    const std::vector<std::vector<Eigen::Vector3d>> after = drawn(strands);
+    passes += static_cast<long>(findPassThroughs(before, after, 2 * p.thickness).size());
+    closest = std::min(closest, centrelineDistance(strands[0], strands[1]));
+    before = after;
+  }
+  EXPECT_EQ(passes, 0);
+  // As AStrandDrivenThroughAnotherIsStoppedWithinTheStep (semi-implicit): above 80 % of R.
+  EXPECT_GT(closest, 0.8 * 5e-3);
+  EXPECT_GT(coupledSteps, 0);
+  EXPECT_EQ(coupledFirstOrder, coupledSteps);
+  // (The midpoint step's own energy guard may decline a step of C: alone as well.)
+  EXPECT_GT(farSecondOrder, 0);
+  EXPECT_EQ(farSecondOrder, aloneSecondOrder);
+  EXPECT_LT((strands[2].q() - alone.q()).norm(), 1e-12 * alone.q().norm());
+  std::printf("midpoint integrator: closest approach %.3g mm, %d coupled steps (all first "
+              "order), the far strand second order in %d of %d steps\n",
+              1e3 * closest, coupledSteps, farSecondOrder, frames);
+}
+
 namespace
 {
 // Two strands whose roots move towards each other; the closest approach of their centrelines

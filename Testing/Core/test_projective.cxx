@@ -410,6 +410,70 @@ TEST(ProjectiveContact, DrapesOverASphereWithoutEnteringIt)
   }
 }
 
+TEST(ProjectiveEnergyBudget, ImpactOnABallIsReportedAsContactDissipation)
+{
+  // A rigid rod (one segment, L = 10 cm, no spring, damping or drag) released horizontally
+  // about its root swings down and hits a ball head-on: the ball's centre lies on the tangent
+  // of the tip's circle at 40° below the horizontal, so the normal there is along the tip's
+  // velocity and the inelastic response stops the rod. Everything it released is lost in
+  // that event, and the budget must report it as the contacts' dissipation, not leave it in
+  // the residual.
+  const double length = 0.1, radius = 0.02, theta = 40 * Pi / 180, g = 9.81;
+  const Eigen::Vector3d tip(length * std::cos(theta), -length * std::sin(theta), 0);
+  const Eigen::Vector3d centre =
+      tip + radius * Eigen::Vector3d(-std::sin(theta), -std::cos(theta), 0);
+  Scene scene;
+  scene.parts.push_back(spherePart(centre, radius, "ball"));
+  TestOptions o = quiet();
+  o.parameters.bendingStiffness = 1e-12; // a free hinge (κ = EI/d > 0 is required)
+  const double m = o.parameters.linearDensity * length;
+  // The tip's circle meets the shell at the contact margin ε at ψ before θ:
+  // |tip(θ − ψ) − centre|² = 2L²(1 − cos ψ) + R² + 2LR sin ψ = (R + ε)².
+  double lo = 0, hi = 0.5;
+  for (int i = 0; i < 200; ++i)
+  {
+    const double psi = 0.5 * (lo + hi);
+    const double d2 = 2 * length * length * (1 - std::cos(psi)) + radius * radius +
+                      2 * length * radius * std::sin(psi);
+    (d2 < std::pow(radius + o.contactMargin, 2) ? lo : hi) = psi;
+  }
+  // The rod comes to rest between that shell and the ball: the energy released (all lost,
+  // since it ends at rest) is m g (L/2) sin of the angle, between these two.
+  const double releasedAtShell = m * g * 0.5 * length * std::sin(theta - lo);
+  const double releasedAtBall = m * g * 0.5 * length * std::sin(theta);
+  for (double h : {1e-3, 5e-4, 2.5e-4})
+  {
+    o.timeStep = h;
+    ProjectiveStrands sim;
+    ASSERT_TRUE(initialize(sim,
+                           {straight(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
+                                     Eigen::Vector3d::UnitZ(), 1, length)},
+                           scene, o)
+                    .ok());
+    const double e0 = sim.energy().total();
+    ASSERT_TRUE(sim.advance(1.0).ok());
+    const ProjectiveEnergy e = sim.energy();
+    const double lost = e0 - e.total();
+    EXPECT_LT(e.kinetic, 1e-12 * lost) << "h = " << h; // at rest against the ball
+    EXPECT_GT(lost, releasedAtShell) << "h = " << h;
+    EXPECT_LT(lost, releasedAtBall) << "h = " << h;
+    // What is left to the integrator: the swing's symplectic error is bounded by its
+    // modified energy, (h/2)|q̇·Q| ≈ 0.8 % of the energy at the impact at h = 1 ms, and
+    // returns to zero at rest. (Booked on the rates after each step, the constraint's work
+    // left 35 % of the impact here at 1 ms, 15 % at 0.5 ms.)
+    EXPECT_LT(std::abs(e.residual), 0.01 * lost) << "h = " << h;
+    // Most of the loss is the damper's and the inelastic rule's: at the impact speed
+    // V = 1.4 m/s the damper's c V ≥ 450 m/s² per unit mass (c = 2√k = 400/s, capped at
+    // 0.5/(h A) = 333/s at 1 ms, the tip's mobility A = 1.5) is more than 2.5× the spring's
+    // and holding force's k (ε + V/(c A)) + g ≤ 170 m/s² over the stopping distance
+    // V/(c A) ≤ 3 mm, which take the rest as contact work: the damper takes at least
+    // 2.5/3.5 of it (measured 95 %).
+    EXPECT_GT(e.contactDissipated, 0.7 * lost) << "h = " << h;
+    EXPECT_NEAR(e.contactDissipated - e.contactWork, lost + e.residual, 1e-12 * lost);
+    EXPECT_GE(e.inelasticDissipated, 0);
+  }
+}
+
 TEST(ProjectiveContact, ShakingBallPushesHairOut)
 {
   // The ball moves sideways through hanging strands rooted elsewhere (still): the moving

@@ -199,10 +199,11 @@ Figures run(PaperScene which, int strands, int threads, bool print)
     {
       const ProjectiveEnergy e = sim.energy();
       std::printf("  t %.2f s  kinetic %.3e  gravitational %.6e  elastic %.3e  dissipated %.3e  "
-                  "body %.3e  wind %.3e  contact %.3e  residual %.2e J; contacts %ld, "
-                  "projections %ld\n",
+                  "body %.3e  wind %.3e  contact %.3e  contact dissipated %.3e  residual %.2e J; "
+                  "contacts %ld, projections %ld\n",
                   e.time, e.kinetic, e.gravitational, e.elastic, e.dissipated, e.bodyWork,
-                  e.windWork, e.contactWork, e.residual, ss.contacts, ss.projections);
+                  e.windWork, e.contactWork, e.contactDissipated, e.residual, ss.contacts,
+                  ss.projections);
     }
   }
   fig.msPerStep = 1e3 * seconds / steps;
