@@ -53,17 +53,6 @@ Status SuperHelixOptions::validate() const
     {
       return Status::Error("hair–hair contacts: " + s.message());
     }
-    // The coupled step (stepStrandsWithContacts) advances all strands together by whole
-    // steps: one strand cannot take sub-steps of its own.
-    if (tolerance > 0)
-    {
-      std::ostringstream s;
-      s << "the tolerance " << tolerance
-        << " m/s asks for sub-steps, which the step with hair–hair contacts does not take "
-           "(all strands step together); set the tolerance to 0, or turn hair–hair contacts "
-           "off, or shorten the time step instead.";
-      return Status::Error(s.str());
-    }
   }
   return Status::Ok();
 }
@@ -180,16 +169,47 @@ Status SuperHelixModel::advanceTo(double target)
       continue;
     }
     // Hair–hair: the pairs that may touch within the step are found before it and solved
-    // together with it (docs/hair-hair-contacts.md).
-    const double t0 = time();
-    if (Status s = stepStrandsWithContacts(Helices, HairHair, dt, Run.threads); !s)
+    // together with it (docs/hair-hair-contacts.md). The coupled step advances all strands
+    // together, so with a tolerance the sub-steps are common to all strands: each one's size
+    // comes from the largest error estimate of the previous one (as SuperHelix::advance
+    // chooses its next sub-step, e ∝ h²), and none is taken again (a coupled step is not
+    // undone): the estimates reported may exceed the tolerance where the motion changes
+    // abruptly.
+    double remaining = dt;
+    while (remaining > 1e-12 * dt)
     {
-      return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
-                           " s: " + s.message());
+      double h = remaining;
+      if (Options.tolerance > 0)
+      {
+        h = std::max(NextCoupledStep > 0 ? std::min(NextCoupledStep, dt) : dt,
+                     dt / SuperHelix::MaxSubsteps);
+        if (h >= remaining * (1 - 1e-9))
+          h = remaining;
+        else if (h > 0.5 * remaining)
+          h = 0.5 * remaining;
+      }
+      const double t0 = time();
+      if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
+      {
+        return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
+                             " s: " + s.message());
+      }
+      tally();
+      HairHairWork += HairHair.stats().work;
+      HairHairDissipated += HairHair.stats().dissipated;
+      remaining -= h;
+      if (Options.tolerance > 0)
+      {
+        double error = 0;
+        for (const SuperHelix& helix : Helices)
+        {
+          error = std::max(error, helix.lastErrorEstimate());
+        }
+        const double ratio = error / (Options.tolerance * h);
+        const double grow = ratio > 0 ? 0.9 / ratio : 2.0;
+        NextCoupledStep = std::max(0.2 * h, std::min(h * grow, 2 * h));
+      }
     }
-    tally();
-    HairHairWork += HairHair.stats().work;
-    HairHairDissipated += HairHair.stats().dissipated;
   }
   return Status::Ok();
 }

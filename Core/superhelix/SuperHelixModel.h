@@ -31,7 +31,9 @@ struct SuperHelixOptions
   /// element end) add up to at most `tolerance` over each second (SuperHelix::advance with
   /// tolerance · dt for a step dt); 0: fixed steps of the run's time step. Measured on a
   /// released strand, the tip's error after 1 s stayed below the tolerance with both
-  /// integrators (docs/super-helix.md, "Accuracy on request").
+  /// integrators (docs/super-helix.md, "Accuracy on request"). With hair–hair contacts the
+  /// sub-steps are common to all strands, each sized from the previous one's largest
+  /// estimate and none taken again (docs/hair-hair-contacts.md).
   double tolerance = 0;
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the model.
@@ -96,6 +98,7 @@ private:
   // stepStatistics() of the steps since the last frame, added up after every stepStrands.
   void tally();
   double Substeps = 0, Rejected = 0, FirstOrder = 0;
+  double NextCoupledStep = 0;     // with hair–hair contacts and a tolerance: the next sub-step
   std::vector<double> FrameError; // per strand
 };
 
