@@ -86,7 +86,8 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
      << indent << "Hair-hair contacts: " << (this->HairHairContacts ? "on" : "off") << " thickness "
      << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
-     << this->HairContactDamping << " friction " << this->HairContactFriction << " per length "
+     << this->HairContactDamping << " friction coefficient " << this->HairFrictionCoefficient
+     << " iterations " << this->HairContactIterations << " per length "
      << (this->HairContactPerLength ? "on" : "off") << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n"
      << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n";
@@ -343,7 +344,8 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   sh.hairHair.thickness = this->HairContactThickness;
   sh.hairHair.stiffness = this->HairContactStiffness;
   sh.hairHair.damping = this->HairContactDamping;
-  sh.hairHair.friction = this->HairContactFriction;
+  sh.hairHair.friction = this->HairFrictionCoefficient;
+  sh.hairHair.iterations = this->HairContactIterations;
   sh.hairHair.perLength = this->HairContactPerLength;
 
   // Frames stay in memory while the run fits in the budget; a longer run with a state file

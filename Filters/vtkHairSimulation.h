@@ -110,8 +110,9 @@ public:
   vtkGetMacro(FrictionAnisotropy, double);
   vtkSetMacro(ContactThickness, double);
   vtkGetMacro(ContactThickness, double);
-  /// Super-Helix: hair–hair contacts between the guides (hair::HairHairParameters); each
-  /// guide is a clump of radius HairContactThickness.
+  /// Super-Helix: hair–hair contacts between the guides (hair::HairHairParameters), solved
+  /// together with every step; each guide is a clump of radius HairContactThickness (0:
+  /// automatic, hair::HairHairParameters::automaticThickness).
   vtkSetMacro(HairHairContacts, bool);
   vtkGetMacro(HairHairContacts, bool);
   vtkBooleanMacro(HairHairContacts, bool);
@@ -121,8 +122,12 @@ public:
   vtkGetMacro(HairContactStiffness, double);
   vtkSetMacro(HairContactDamping, double);
   vtkGetMacro(HairContactDamping, double);
-  vtkSetMacro(HairContactFriction, double);
-  vtkGetMacro(HairContactFriction, double);
+  /// Coulomb friction coefficient between guides (dimensionless).
+  vtkSetMacro(HairFrictionCoefficient, double);
+  vtkGetMacro(HairFrictionCoefficient, double);
+  /// Most Gauss–Seidel sweeps of the hair–hair solve per detection round.
+  vtkSetMacro(HairContactIterations, int);
+  vtkGetMacro(HairContactIterations, int);
   /// Hair–hair penalty per length of contact (HairHairParameters::perLength, ℓ_ref = 1 cm).
   vtkSetMacro(HairContactPerLength, bool);
   vtkGetMacro(HairContactPerLength, bool);
@@ -178,11 +183,12 @@ protected:
   double FrictionCoefficient = 0.3; ///< μ
   double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
   double ContactThickness = 1e-3;   ///< m
-  bool HairHairContacts = false;
-  double HairContactThickness = 2.5e-3; ///< m, radius of the clump a guide stands for
-  double HairContactStiffness = 0.1;    ///< N/m per contact
+  bool HairHairContacts = true;
+  double HairContactThickness = 0;      ///< m, radius of the clump a guide stands for; 0: auto
+  double HairContactStiffness = 1;      ///< N/m per contact
   double HairContactDamping = 2e-4;     ///< N·s/m
-  double HairContactFriction = 1e-5;    ///< N·s/m, viscous
+  double HairFrictionCoefficient = 0.3; ///< μ, Coulomb
+  int HairContactIterations = 10;       ///< Gauss–Seidel sweeps per round
   bool HairContactPerLength = false;
   double SlipVelocity = 1e-3; ///< m/s
   std::string StateFileName;

@@ -9,7 +9,7 @@
 //                          [model=super-helix|projective]
 //   hair_study integrator  out=<csv> [quick=0|1] [demo=0|1] [guides=200] [seconds=5]
 //   hair_study clump       out=<csv> [quick=0|1] [strands=50] [duration=6] [ramp=3]
-//                          [updates=4] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
+//                          [updates=1] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
 //                          [contacts=1] [amplitude=0.01] [frequency=3]
 //   hair_study demo        out=<h5>  [model=projective|super-helix] [strands=200] [n=40|10]
 //                          [duration=5] [dt=1/30] [threads=2] [data=<Data dir>]
@@ -20,6 +20,9 @@
 //   hair_study pendulum    out=<csv> [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5]
 //                          [length=0.3] [n=10] [duration=8] [dt=1/2000] [push=0.02]
 //                          [frequency=1] [rate=200] [integrator=semi-implicit]
+//   hair_study hairhair    out=<csv> [scene=demo|clump] [contacts=1] [body=1] [guides=200]
+//                          [threads=2] [duration=5|6] [thickness=0|1.2e-3] [stiffness=1]
+//                          [friction=0.3] [margin=0.25] [iterations=10]
 //
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
@@ -27,6 +30,7 @@
 #include "DemoScene.h"
 #include "analysis/StrandAnalysis.h"
 #include "contact/HairHairContacts.h"
+#include "contact/PassThrough.h"
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
@@ -543,7 +547,7 @@ struct ClumpConfig
     return c;
   }();
   double duration = 6;
-  int updatesPerFrame = 4;
+  int updatesPerFrame = 1;
   double frame = 1.0 / 30;
   bool contacts = true; ///< false: the same run without hair–hair contacts (the reference)
   HairHairParameters contact;
@@ -560,9 +564,6 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
   HairHairContacts contacts;
   if (Status st = contacts.setParameters(c.contact); !st)
     return st;
-  if (c.contacts)
-    for (SuperHelix& h : strands)
-      h.setContactForces(contacts.hook());
 
   double deepest = 0;
   long lastContacts = 0;
@@ -596,26 +597,26 @@ Status runClump(const ClumpConfig& c, double gamma, std::ostream& out)
   const long frames = std::lround(c.duration / c.frame);
   for (long f = 0; f < frames; ++f)
   {
-    // updatesPerFrame contact searches per frame, each followed by a step of frame / updates
-    // (docs/hair-hair-contacts.md: one update per 1/30 s lets pairs of the shaken clump go
-    // through each other; 4 keep them within 26 % of the contact distance).
+    // updatesPerFrame steps per frame, each solving the contacts that may arise within it
+    // together with the strands' steps (docs/hair-hair-contacts.md; one per 1/30 s frame is
+    // enough for the shaken clump).
     double remaining = c.frame;
     for (int u = 0; u < c.updatesPerFrame; ++u)
     {
-      if (c.contacts)
-      {
-        if (Status st = findHairHairContacts(strands, contacts); !st)
-          return st;
-        deepest = std::max(deepest, contacts.stats().maxPenetration);
-        lastContacts = contacts.stats().contacts;
-      }
       const double h = u + 1 == c.updatesPerFrame ? remaining : c.frame / c.updatesPerFrame;
-      if (Status st = stepStrands(strands, h, 2); !st)
+      const Status st = c.contacts ? stepStrandsWithContacts(strands, contacts, h, 2)
+                                   : stepStrands(strands, h, 2);
+      if (!st)
       {
         std::ostringstream m;
         m << "gamma = " << gamma << " kg m^3/s, t = " << strands[0].time()
           << " s: " << st.message();
         return Status::Error(m.str());
+      }
+      if (c.contacts)
+      {
+        deepest = std::max(deepest, contacts.stats().maxPenetration);
+        lastContacts = contacts.stats().active;
       }
       remaining -= h;
     }
@@ -644,7 +645,7 @@ int clump(const Arguments& args)
   if (s)
     s = args.list("gammas", {5e-11, 1e-10, 2e-10, 5e-10}, 0, 1e-6, gammas);
   if (s)
-    s = args.integer("updates", 4, 1, 64, c.updatesPerFrame);
+    s = args.integer("updates", 1, 1, 64, c.updatesPerFrame);
   if (s)
     s = args.number("thickness", 1.2e-3, 1e-5, 0.1, c.contact.thickness);
   if (s)
@@ -669,8 +670,6 @@ int clump(const Arguments& args)
   c.scene.startOscillation = c.scene.rampTime;
   c.contacts = withContacts == 1;
   c.contact.perLength = perLength == 1; // the per-length penalty (docs/hair-hair-contacts.md)
-  // Moving hair: coherence only adds candidates (docs/hair-hair-contacts.md), so it is off.
-  c.contact.margin = 0;
   out << "gamma,time_s,root_y_m,span_m,mean_radius_m,contacts,max_penetration_m\n";
   for (double g : gammas)
     if (s = runClump(c, g, out); !s)
@@ -1290,11 +1289,209 @@ int integrator(const Arguments& args)
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------
+// Hair–hair contacts (docs/hair-hair-contacts.md): the demo's head shake on the bundled body
+// or the dense shaken clump, per frame: pairs of guide pieces that went through each other
+// since the previous frame, the body's penetration, the contacts; the energy budget at the
+// end.
+
+/// The guides' drawn points, strand by strand, from a frame (points per the header's offsets).
+std::vector<std::vector<Eigen::Vector3d>> polylines(const StateHeader& header,
+                                                    const StateFrame& frame)
+{
+  std::vector<std::vector<Eigen::Vector3d>> out(header.numberOfStrands());
+  for (size_t k = 0; k < out.size(); ++k)
+    out[k].assign(frame.positions.begin() + header.offsets[k],
+                  frame.positions.begin() + header.offsets[k + 1]);
+  return out;
+}
+
+int hairhair(const Arguments& args)
+{
+  int withContacts = 1, guidesCount = 200, threads = 2, bodyContacts = 1;
+  double duration = 0;
+  HairHairParameters p;
+  std::ofstream out;
+  const std::string sceneName = args.text("scene", "demo");
+  Status s = sceneName == "demo" || sceneName == "clump"
+                 ? Status::Ok()
+                 : Status::Error("scene=" + sceneName + " is not one of demo, clump.");
+  if (s)
+    s = args.integer("contacts", 1, 0, 1, withContacts);
+  if (s)
+    s = args.integer("body", 1, 0, 1, bodyContacts);
+  if (s)
+    s = args.integer("guides", 200, 1, 20000, guidesCount);
+  if (s)
+    s = args.integer("threads", 2, 1, 256, threads);
+  if (s)
+    s = args.number("duration", sceneName == "demo" ? 5 : 6, 1.0 / 30, 1000, duration);
+  if (s) // the demo: 0, automatic; the clump: the tests' 1.2 mm
+    s = args.number("thickness", sceneName == "demo" ? 0 : 1.2e-3, 0, 0.1, p.thickness);
+  if (s && sceneName == "clump" && !(p.thickness > 0))
+    s = Status::Error("thickness=0 (automatic) is for guides on a head; give the clump's.");
+  if (s)
+    s = args.number("stiffness", p.stiffness, 1e-6, 1e6, p.stiffness);
+  if (s)
+    s = args.number("friction", p.friction, 0, 10, p.friction);
+  if (s)
+    s = args.number("margin", p.margin, 0, 4, p.margin);
+  if (s)
+    s = args.integer("iterations", p.iterations, 1, 1000, p.iterations);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study hairhair: " << s.message() << "\n";
+    return 2;
+  }
+  const int frames = static_cast<int>(std::lround(duration * 30));
+  out << "time_s,pass_throughs,nodes_inside,max_depth_m,contacts,pressed,sweeps,rounds,"
+         "max_penetration_m,wall_s\n";
+  long passTotal = 0, passLater = 0, insideSum = 0;
+  double deepest = 0, deepestPair = 0, wall = 0;
+  // Every half second on stdout: the pass-throughs since the previous line, the nodes
+  // inside the body and the deepest of them at that frame, the pairs solved and pressed.
+  long passWindow = 0;
+  std::printf("| t (s) | pass-throughs in the last 0.5 s | nodes inside | deepest (mm) | pairs "
+              "solved | pressed |\n|---|---|---|---|---|---|\n");
+  auto row =
+      [&](double t, long passes, long inside, double depth, const HairHairStats* hs, double seconds)
+  {
+    passWindow += passes;
+    if (std::abs(t * 2 - std::round(t * 2)) < 1e-6)
+    {
+      std::printf("| %.1f | %ld | %ld | %.2f | %ld | %ld |\n", t, passWindow, inside, 1e3 * depth,
+                  hs ? hs->contacts : 0L, hs ? hs->active : 0L);
+      passWindow = 0;
+    }
+    out << t << "," << passes << "," << inside << "," << depth << "," << (hs ? hs->contacts : 0)
+        << "," << (hs ? hs->active : 0) << "," << (hs ? hs->sweeps : 0) << ","
+        << (hs ? hs->rounds : 0) << "," << (hs ? hs->maxPenetration : 0) << "," << seconds << "\n";
+    passTotal += passes;
+    passLater += t > 1 + 1e-9 ? passes : 0;
+    insideSum += inside;
+    deepest = std::max(deepest, depth);
+    deepestPair = std::max(deepestPair, hs ? hs->maxPenetration : 0);
+    wall += seconds;
+  };
+  if (sceneName == "demo")
+  {
+    BundledBody body;
+    if (s = loadBundledBody(HAIR_DATA_DIR, body); !s)
+    {
+      std::cerr << "hair_study hairhair: " << s.message() << "\n";
+      return 1;
+    }
+    std::vector<GuideStrand> guides;
+    if (s = demoGuides(body, guidesCount, 10, guides); !s)
+    {
+      std::cerr << "hair_study hairhair: " << s.message() << "\n";
+      return 1;
+    }
+    SimulationOptions o;
+    o.threads = threads;
+    o.superHelix.contacts.enabled = bodyContacts == 1;
+    o.superHelix.hairHairEnabled = withContacts == 1;
+    o.superHelix.hairHair = p;
+    Simulation sim;
+    if (s = sim.initialize(guides, demoScene(body), o); !s)
+    {
+      std::cerr << "hair_study hairhair: " << s.message() << "\n";
+      return 1;
+    }
+    // The contact distance the pass-throughs are counted within: the run's (automatic or
+    // given) thickness, the same with contacts off.
+    double radius = 0;
+    for (const GuideStrand& g : guides)
+      radius += g.hair.radius / static_cast<double>(guides.size());
+    const double thickness =
+        p.thickness > 0 ? p.thickness : HairHairParameters::automaticThickness(radius, guidesCount);
+    const double R = 2 * thickness;
+    const auto* model = dynamic_cast<const SuperHelixModel*>(&sim.model());
+    for (int f = 1; f <= frames; ++f)
+    {
+      const auto t0 = std::chrono::steady_clock::now();
+      if (s = sim.advanceTo(f + 1); !s)
+      {
+        std::cerr << "hair_study hairhair: " << s.message() << "\n";
+        return 1;
+      }
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const long passes =
+          static_cast<long>(findPassThroughs(polylines(sim.header(), sim.frame(f - 1)),
+                                             polylines(sim.header(), sim.frame(f)), R)
+                                .size());
+      row(sim.frame(f).time, passes, sim.contacts()[f], sim.maxDepth()[f],
+          withContacts ? &model->hairHair().stats() : nullptr, seconds);
+    }
+    const std::map<std::string, double> e = sim.model().energy().values();
+    std::printf("demo, %d guides, hair-hair %s (thickness %.3g mm): %ld pass-throughs over %d "
+                "frames, %ld after 1 s; body: mean %.1f nodes inside, deepest %.2f mm; deepest "
+                "pair %.2f mm of %.2f mm; %.1f s\n",
+                guidesCount, withContacts ? "on" : "off", 1e3 * thickness, passTotal, frames,
+                passLater, double(insideSum) / frames, 1e3 * deepest, 1e3 * deepestPair, 1e3 * R,
+                wall);
+    std::printf("energy (J):");
+    for (const auto& [name, value] : e)
+      std::printf(" %s %.4g", name.c_str(), value);
+    std::printf("; |residual| / external work %.3g\n",
+                std::abs(e.at("residual")) / std::max(1e-300, std::abs(e.at("external_work"))));
+    return 0;
+  }
+  // The dense clump of the hair–hair tests (ClumpScene: 50 guides on a 12 mm disc, squeezed
+  // by a converging flow, the root disc shaken 1 cm at 3 Hz from 3 s), ν = 2e-4.
+  const double R = 2 * p.thickness;
+  ClumpSpec spec;
+  spec.hair.airFriction = 2e-4;
+  std::vector<SuperHelix> strands;
+  HairHairContacts contacts;
+  if (s = initializeClump(spec, strands); s)
+    s = contacts.setParameters(p);
+  auto drawn = [&]()
+  {
+    std::vector<std::vector<Eigen::Vector3d>> lines(strands.size());
+    for (size_t k = 0; k < strands.size(); ++k)
+      strands[k].polyline(4, lines[k]);
+    return lines;
+  };
+  std::vector<std::vector<Eigen::Vector3d>> before = drawn();
+  for (int f = 1; s && f <= frames; ++f)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    s = withContacts ? stepStrandsWithContacts(strands, contacts, 1.0 / 30, threads)
+                     : stepStrands(strands, 1.0 / 30, threads);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<std::vector<Eigen::Vector3d>> after = drawn();
+    row(strands[0].time(), static_cast<long>(findPassThroughs(before, after, R).size()), 0, 0,
+        withContacts ? &contacts.stats() : nullptr, seconds);
+    before = std::move(after);
+  }
+  if (!s)
+  {
+    std::cerr << "hair_study hairhair: " << s.message() << "\n";
+    return 1;
+  }
+  double work = 0, residual = 0;
+  for (const SuperHelix& h : strands)
+  {
+    work += std::abs(h.energy().total.rootWork) + std::abs(h.energy().total.windWork);
+    residual += h.energy().total.residual;
+  }
+  std::printf("clump, hair-hair %s: %ld pass-throughs over %d frames; deepest pair %.3f mm of "
+              "%.2f mm; %.1f s; residual %.3g J of |root| + |wind| work %.3g J\n",
+              withContacts ? "on" : "off", passTotal, frames, 1e3 * deepestPair, 1e3 * R, wall,
+              residual, work);
+  return 0;
+}
+
 int usage()
 {
   std::cerr
       << "usage: hair_study <convergence|buckling|release|scene|integrator|clump|demo|oscillation|"
-         "pendulum> out=<file> "
+         "pendulum|hairhair> out=<file> "
          "[key=value ...]\n"
          "  convergence [ns=1,2,...,40] [length=0.1]\n"
          "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
@@ -1303,7 +1500,7 @@ int usage()
          "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
          "              (out=<file>.h5)\n"
          "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
-         "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
+         "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=1]\n"
          "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
          "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
          "              [amplitude=0.01] [frequency=3]\n"
@@ -1315,7 +1512,10 @@ int usage()
          "              [integrator=semi-implicit]\n"
          "  pendulum    [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5] [length=0.3]\n"
          "              [n=10] [duration=8] [dt=1/2000] [push=0.02] [frequency=1]\n"
-         "              [rate=200] [integrator=semi-implicit]\n";
+         "              [rate=200] [integrator=semi-implicit]\n"
+         "  hairhair    [scene=demo|clump] [contacts=1] [body=1] [guides=200] [threads=2]\n"
+         "              [duration=5 (demo), 6 (clump)] [thickness=0 (demo), 1.2e-3 (clump)]\n"
+         "              [stiffness=1] [friction=0.3] [margin=0.25] [iterations=10]\n";
   return 2;
 }
 
@@ -1344,7 +1544,11 @@ int main(int argc, char** argv)
        {"clump",
         {{"out", "quick", "strands", "duration", "ramp", "gammas", "updates", "thickness",
           "contacts", "perlength", "reflength", "amplitude", "frequency"},
-         clump}}};
+         clump}},
+       {"hairhair",
+        {{"out", "scene", "contacts", "body", "guides", "threads", "duration", "thickness",
+          "stiffness", "friction", "margin", "iterations"},
+         hairhair}}};
   const auto it = studies.find(study);
   if (it == studies.end())
   {

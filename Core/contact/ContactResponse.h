@@ -34,6 +34,23 @@ struct ContactResponse
   Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
 };
 
+/// How the end-of-step velocities of some samples of a strand respond to point forces at
+/// those samples, within one implicit step that has been solved without them (the strand's
+/// own forces, body contacts included, are in it): with forces F_l [N] at the coupling
+/// samples l, the strand's coordinate velocities change by Δ = Σ_l Y_l F_l and sample k's
+/// velocity is v_k = freeVelocity_k + J_k Δ. Y_l = h A⁻¹ J_lᵀ for the step's matrix A, so
+/// J_k Y_l is the compliance the step gives between the two samples. Filled by the strand
+/// model (SuperHelix::compliance) for the contacts between strands to be solved together
+/// (contact/HairHairContacts).
+struct StrandCompliance
+{
+  std::vector<int> samples;                  ///< the coupling samples (indices), increasing
+  std::vector<Eigen::Vector3d> freeVelocity; ///< [m/s], one per coupling sample
+  std::vector<int> columns; ///< per coupling sample: its J_k is 0 past this many coordinates
+  Eigen::MatrixXd Jt;       ///< the coordinates × 3 columns per coupling sample: J_kᵀ
+  Eigen::MatrixXd Y;        ///< the coordinates × 3 columns per coupling sample: Y_k
+};
+
 /// Contact hook: given the samples at the start of a (sub-)step, write the response of each
 /// sample (the vector arrives sized and zeroed). Called once per step (and sub-step) of the
 /// strand, from the thread that steps it.

@@ -53,6 +53,23 @@ template <int V>
   }
 }
 
+// x ← A⁻¹ x from the factors of luSolveInPlace: P x, then the unit lower and the upper
+// triangular solves, column by column.
+[[gnu::always_inline]] inline void substitute(const double* a, const int* piv, double* x, int m)
+{
+  auto column = [a, m](int j) { return a + static_cast<std::ptrdiff_t>(j) * m; };
+  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
+    std::swap(x[c], x[piv[c]]);
+  for (int c = 0; c < m; ++c)
+    subtractScaled(x + c + 1, column(c) + c + 1, x[c], m - c - 1);
+  for (int c = m - 1; c >= 0; --c)
+  {
+    const double* col = column(c);
+    x[c] /= col[c];
+    subtractScaled(x, col, x[c], c);
+  }
+}
+
 } // namespace
 
 HAIR_AVX2_CLONES
@@ -140,17 +157,14 @@ double luSolveInPlace(double* a, double* x, int m, int* piv)
       }
     }
   }
-  for (int c = 0; c < m; ++c) // P b: the interchanges in order (L's rows are in final order)
-    std::swap(x[c], x[piv[c]]);
-  for (int c = 0; c < m; ++c)
-    subtractScaled(x + c + 1, column(c) + c + 1, x[c], m - c - 1);
-  for (int c = m - 1; c >= 0; --c)
-  {
-    const double* col = column(c);
-    x[c] /= col[c];
-    subtractScaled(x, col, x[c], c);
-  }
+  substitute(a, piv, x, m);
   return pivot;
+}
+
+HAIR_AVX2_CLONES
+void luSolveFactored(const double* lu, const int* piv, double* x, int m)
+{
+  substitute(lu, piv, x, m);
 }
 
 } // namespace hair

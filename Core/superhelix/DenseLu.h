@@ -21,4 +21,8 @@ namespace hair
 // m = 120; SuperHelix uses it up to m = 360.
 double luSolveInPlace(double* a, double* x, int m, int* piv);
 
+// Solves a x = b once more with the factors (lu) and interchanges (piv) that luSolveInPlace
+// left: x is b on entry, the solution on return (the same operations as its own solve).
+void luSolveFactored(const double* lu, const int* piv, double* x, int m);
+
 } // namespace hair

@@ -30,12 +30,8 @@ namespace
 // gaining 10 % at a time let the strand's energy grow fivefold at 1/240 s; 0.01 declined
 // 9, 11, 9, 7 steps (1/30 … 1/240 s) and none from 1/1920 s on.
 constexpr double EnergyGuard = 0.01;
-// Up to this size (3N) the step's matrix is factorized by luSolveInPlace (DenseLu.h), larger
-// ones by Eigen's blocked PartialPivLU. In whole steps of the wavy strand (alternated
-// processes) ours is faster up to 3N = 360 (N = 120: 1.9–3.1 ms a step against
-// 4.0–4.2 ms); at 3N = 480 the two are within the noise.
-constexpr int UnblockedLuMax = 360;
 } // namespace
+using detail::UnblockedLuMax;
 
 Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
 {
@@ -174,7 +170,40 @@ Status SuperHelix::singleStep(double h, double acceptLimit, bool& rejected)
   return st;
 }
 
-Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome)
+Status SuperHelix::prepareStep(double h, double t0, bool midpoint, Eigen::VectorXd& qdN,
+                               bool& declined, bool& solveFailed)
+{
+  declined = solveFailed = false;
+  const double t1 = t0 + h;
+  Status st = evaluateForces(Cur, Time);
+  if (!st)
+    return Status::Error(where(t0, t1) + st.message());
+  // The penalty contacts are stiff (√(k/ρS) ≈ 1000 rad/s, 33/dt at 1/30 s): the midpoint
+  // rule leaves such a mode ringing (amplification −0.99 per step) where backward Euler
+  // damps it; a strand touching anything takes the semi-implicit step.
+  if (midpoint && ContactsSet)
+    for (const Node& nd : Cur.nodes)
+      if (nd.hasF || nd.hasK || nd.hasD)
+      {
+        declined = true;
+        return Status::Ok();
+      }
+  assemble();
+  assembleVelocityJacobian();
+  assembleTensionStiffness(h);
+  if (!F.allFinite())
+    return Status::Error(where(t0, t1) +
+                         "the generalized forces are not finite; the previous state is kept. "
+                         "Check the root motion and forces.");
+  st = solve(h, qdN);
+  solveFailed = !st;
+  if (!st)
+    return Status::Error(where(t0, t1) + st.message() + "; the previous state is kept.");
+  return Status::Ok();
+}
+
+Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome,
+                               const Eigen::VectorXd* coupled)
 {
   outcome = Outcome::Committed;
   const double t0 = Time, t1 = Time + h;
@@ -232,28 +261,23 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
     return midpoint ? keep(Status::Ok(), Outcome::Declined)
                     : keep(Status::Error(message), Outcome::Committed);
   };
-  Status st = evaluateForces(Cur, tEval);
-  if (!st)
-    return keep(Status::Error(where(t0, t1) + st.message()), Outcome::Committed);
-  // The penalty contacts are stiff (√(k/ρS) ≈ 1000 rad/s, 33/dt at 1/30 s): the midpoint
-  // rule leaves such a mode ringing (amplification −0.99 per step) where backward Euler
-  // damps it; a strand touching anything takes the semi-implicit step.
-  if (midpoint && ContactsSet)
-    for (const Node& nd : Cur.nodes)
-      if (nd.hasF || nd.hasK || nd.hasD)
-        return keep(Status::Ok(), Outcome::Declined);
-  assemble();
-  assembleVelocityJacobian();
-  assembleTensionStiffness(h);
-  if (!F.allFinite())
-    return keep(Status::Error(where(t0, t1) +
-                              "the generalized forces are not finite; the previous state is kept. "
-                              "Check the root motion and forces."),
-                Outcome::Committed);
+  // The step's velocities: solved here, or by a coupled step (endStep) from the forces,
+  // assembly and solve of its beginStep.
   Eigen::VectorXd qdN;
-  st = solve(h, qdN);
-  if (!st)
-    return fail(where(t0, t1) + st.message() + "; the previous state is kept.");
+  Status st;
+  if (coupled)
+    qdN = *coupled;
+  else
+  {
+    bool declined = false, solveFailed = false;
+    st = prepareStep(h, t0, midpoint, qdN, declined, solveFailed);
+    if (declined)
+      return keep(Status::Ok(), Outcome::Declined);
+    if (solveFailed)
+      return fail(st.message());
+    if (!st)
+      return keep(st, Outcome::Committed);
+  }
   // The velocity of the step: qⁿ⁺¹ = qⁿ + h q̇_step (semi-implicit: q̇ⁿ⁺¹; midpoint:
   // (q̇ⁿ + q̇ⁿ⁺¹)/2).
   const Eigen::VectorXd qdStep = midpoint ? Eigen::VectorXd(0.5 * (Qdot + qdN)) : qdN;

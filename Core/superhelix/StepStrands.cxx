@@ -1,6 +1,7 @@
 // Many strands at once: stepStrands (chunks of consecutive strands on the run's threads,
 // each thread prefetching the next strand of its chunk while it steps one),
-// SuperHelix::prefetch, and findHairHairContacts from the strands' samples.
+// SuperHelix::prefetch, and stepStrandsWithContacts (the step with the contacts between
+// strands solved together with it).
 #include "superhelix/SuperHelix.h"
 
 #include "common/Parallel.h"
@@ -54,16 +55,96 @@ Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, dou
   return Status::Ok();
 }
 
-Status findHairHairContacts(const std::vector<SuperHelix>& strands, HairHairContacts& contacts)
+Status stepStrandsWithContacts(std::vector<SuperHelix>& strands, HairHairContacts& contacts,
+                               double dt, int threads)
 {
+  // Rounds of detection: a contact's force can push a strand towards one it was not paired
+  // with; each round looks again from where the solved step takes the samples
+  // (docs/hair-hair-contacts.md, "Detection").
+  constexpr int DetectionRounds = 3;
+  const int count = static_cast<int>(strands.size());
+  threads = std::max(1, std::min(threads, count));
+  const int chunk = std::max(1, std::min(8, count / (4 * threads)));
+  std::vector<Status> results(strands.size());
+  auto firstError = [&]() -> Status
+  {
+    for (const Status& s : results)
+      if (!s)
+        return s;
+    return Status::Ok();
+  };
+  // Every strand's step without the contacts between strands; the pairs that may touch are
+  // found from where that step takes the samples (x + dt v at the free end velocity).
+  parallelBlocks(count, chunk, threads,
+                 [&](std::int64_t first, std::int64_t last)
+                 {
+                   for (std::int64_t i = first; i < last; ++i)
+                   {
+                     if (i + 1 < last)
+                       strands[i + 1].prefetch();
+                     results[i] = strands[i].beginStep(dt);
+                   }
+                 });
+  if (Status st = firstError(); !st)
+    return st;
+  // Detection, compliance and solve; then the detection again from where the solved step
+  // takes the samples, and a solve with the pairs it adds (a strand pushed by one contact
+  // towards another strand), while it adds any, at most DetectionRounds times in all.
   std::vector<std::vector<StrandSample>> samples(strands.size());
   std::vector<int> ids(strands.size());
   for (std::size_t i = 0; i < strands.size(); ++i)
   {
-    samples[i] = strands[i].samples();
+    samples[i] = strands[i].freeSamples();
     ids[i] = strands[i].spec().id;
   }
-  return contacts.update(samples, ids);
+  std::vector<StrandCompliance> compliance(strands.size());
+  for (int round = 0; round < DetectionRounds; ++round)
+  {
+    if (round == 0)
+    {
+      if (Status st = contacts.detect(samples, ids, dt); !st)
+        return st;
+    }
+    else
+    {
+      parallelBlocks(count, chunk, threads,
+                     [&](std::int64_t first, std::int64_t last)
+                     {
+                       for (std::int64_t i = first; i < last; ++i)
+                         strands[i].predictedSamples(contacts.response(int(i)), samples[i]);
+                     });
+      bool grew = false;
+      if (Status st = contacts.extend(samples, grew); !st)
+        return st;
+      if (!grew)
+        break;
+    }
+    parallelBlocks(count, chunk, threads,
+                   [&](std::int64_t first, std::int64_t last)
+                   {
+                     for (std::int64_t i = first; i < last; ++i)
+                     {
+                       const std::vector<int>& coupling = contacts.couplingSamples(int(i));
+                       if (coupling.empty())
+                         compliance[i] = StrandCompliance();
+                       else if (coupling != compliance[i].samples)
+                         results[i] = strands[i].compliance(coupling, compliance[i]);
+                     }
+                   });
+    if (Status st = firstError(); !st)
+      return st;
+    if (Status st = contacts.solve(compliance); !st)
+      return st;
+  }
+  parallelBlocks(count, chunk, threads,
+                 [&](std::int64_t first, std::int64_t last)
+                 {
+                   for (std::int64_t i = first; i < last; ++i)
+                     results[i] =
+                         strands[i].endStep(contacts.couplingSamples(int(i)),
+                                            contacts.forces(int(i)), contacts.response(int(i)));
+                 });
+  return firstError();
 }
 
 } // namespace hair

@@ -14,6 +14,7 @@
 #include "superhelix/Quadrature.h"
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include <cstdint>
 #include <functional>
@@ -135,6 +136,26 @@ public:
   /// smaller. At most MaxSubsteps sub-steps: the last ones are then accepted whatever
   /// their estimate (lastErrorEstimate() shows it). With tolerance <= 0 it is step(dt).
   Status advance(double dt, double tolerance);
+
+  /// One step of dt split around a solve that couples this strand to others (hair–hair
+  /// contacts, docs/hair-hair-contacts.md). beginStep does what step(dt) does up to the new
+  /// velocities, without the coupling forces, and keeps the step's factorized matrix;
+  /// freeSamples() are then the samples at the start of the step with the velocities they
+  /// have at its end without the coupling forces (x + dt v predicts where they end);
+  /// compliance() describes how the velocities of some of them (indices into samples(),
+  /// increasing) respond to point forces there (StrandCompliance); endStep commits the step
+  /// with forces[k] [N] at those samples and the coordinate velocities changed by `response`
+  /// (Σ Y_k forces[k]), as step(dt) with those forces added by the contact hook would (to
+  /// round-off). Between beginStep and endStep the strand must not be stepped or changed;
+  /// on error the state is unchanged.
+  Status beginStep(double dt);
+  const std::vector<StrandSample>& freeSamples() const { return Pending.free; }
+  Status compliance(const std::vector<int>& samples, StrandCompliance& out) const;
+  /// Like freeSamples(), with the coordinate velocities changed by `response` (a coupled
+  /// solve's Σ Y_k F_k; empty: freeSamples()).
+  void predictedSamples(const Eigen::VectorXd& response, std::vector<StrandSample>& out) const;
+  Status endStep(const std::vector<int>& samples, const std::vector<Eigen::Vector3d>& forces,
+                 const Eigen::VectorXd& response);
 
   /// Replaces q and q̇ (sizes 3N, finite). Energies are recomputed; totals are kept.
   Status setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdot);
@@ -268,7 +289,15 @@ private:
     Rejected, // its error estimate is above acceptLimit (advance() takes a smaller one)
     Declined  // the midpoint step would create energy, blew up or met a contact
   };
-  Status attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome);
+  // `coupled`: the step's velocities already solved (endStep: beginStep's with the coupling
+  // forces' response); only the semi-implicit step is coupled.
+  Status attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome,
+                     const Eigen::VectorXd* coupled = nullptr);
+  // Forces, assembly and solve of the step evaluated at the current state (the midpoint one
+  // once attemptStep has moved it there); `declined`: a midpoint step meeting a contact.
+  Status prepareStep(double h, double t0, bool midpoint, Eigen::VectorXd& qdotNext, bool& declined,
+                     bool& solveFailed);
+  void endVelocities(const Eigen::VectorXd& qdot, std::vector<StrandSample>& out) const;
   Status checkStep(double dt) const;
   double elasticEnergy(const Eigen::VectorXd& q) const;
   std::string where(double t0, double t1) const;
@@ -305,6 +334,22 @@ private:
   // from a step's evaluateForces to the end of that step.
   bool ContactsSet = false;
 
+  // A step begun by beginStep and not yet ended: its size, the velocities without the
+  // coupling forces, the coupling samples and the contact hook's response (the step
+  // workspace's ContactBuffer, which other strands reuse in between).
+  struct PendingStep
+  {
+    bool active = false;
+    double h = 0;
+    Eigen::VectorXd qdot;
+    std::vector<StrandSample> free;
+    bool contactsSet = false;
+    std::vector<ContactResponse> contacts;
+    Eigen::MatrixXd lu; // the step's matrix factorized (luSolveInPlace), or
+    std::vector<int> pivots;
+    Eigen::PartialPivLU<Eigen::MatrixXd> largeLu; // Eigen's, past UnblockedLuMax
+  } Pending;
+
   mutable std::vector<StrandSample> Samples;
   Eigen::VectorXd F;
   // Which reconstruction Cur is: a process-wide counter, renewed whenever Cur changes, so
@@ -322,8 +367,13 @@ private:
 /// the others are advanced.
 Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, double tolerance = 0);
 
-/// HairHairContacts::update from the strands' current samples, each named by its
-/// StrandSpec::id (ids must be distinct).
-Status findHairHairContacts(const std::vector<SuperHelix>& strands, HairHairContacts& contacts);
+/// Steps every strand by dt on `threads` threads with the contacts between strands solved
+/// together with their steps (docs/hair-hair-contacts.md): the pairs that may touch within
+/// the step are found from the strands' samples (each named by its StrandSpec::id; ids must
+/// be distinct), every strand's step is solved without them (strands with none are stepped
+/// outright), the contacts are solved with the strands' compliances, and the strands that
+/// carry one commit their step with its forces. Returns the first error in strand order.
+Status stepStrandsWithContacts(std::vector<SuperHelix>& strands, HairHairContacts& contacts,
+                               double dt, int threads);
 
 } // namespace hair

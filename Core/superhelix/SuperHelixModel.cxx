@@ -55,12 +55,6 @@ Status SuperHelixOptions::validate() const
     {
       return Status::Error("hair–hair contacts: " + s.message());
     }
-    if (hairHairMaxUpdates < 1 || hairHairMaxUpdates > 64)
-    {
-      return Status::Error(
-          "hair–hair contacts: hairHairMaxUpdates = " + std::to_string(hairHairMaxUpdates) +
-          " is out of range; give 1 to 64 searches per step.");
-    }
   }
   return Status::Ok();
 }
@@ -76,6 +70,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   }
   Run = run;
   World = scene;
+  HairHairWork = HairHairDissipated = 0;
   Options.contacts.lookAhead = run.timeStep;
   if (Status s = Body.setParameters(Options.contacts); !s)
   {
@@ -85,6 +80,16 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   {
     HairHairParameters hh = Options.hairHair;
     hh.threads = std::max(1, run.threads);
+    if (hh.thickness == 0 && !guides.empty())
+    {
+      // Automatic: the clump of the head's fibres each guide stands for (their mean radius).
+      double radius = 0;
+      for (const GuideStrand& g : guides)
+        radius += g.hair.radius / static_cast<double>(guides.size());
+      hh.thickness =
+          HairHairParameters::automaticThickness(radius, static_cast<int>(guides.size()));
+    }
+    HairHairThickness = hh.thickness; // as used (the state file records it)
     if (Status s = HairHair.setParameters(hh); !s)
     {
       return Status::Error("hair–hair contacts: " + s.message());
@@ -250,10 +255,6 @@ void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSamp
     Body.respond(samples, Helices[strand].spec().hair.linearDensity(), parts.data(),
                  static_cast<int>(parts.size()), response);
   }
-  if (Options.hairHairEnabled)
-  {
-    HairHair.addResponses(strand, samples, response); // strand ids are their indices
-  }
   if (Options.additionalContacts)
   {
     Options.additionalContacts(strand, t, samples, response);
@@ -270,46 +271,61 @@ Status SuperHelixModel::advanceTo(double target)
   const int steps =
       std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
   const double dt = (target - time()) / steps;
-  auto findContacts = [&]() -> Status
-  {
-    if (Status s = findHairHairContacts(Helices, HairHair); !s)
-    {
-      return Status::Error("hair–hair contacts at t = " + std::to_string(time()) +
-                           " s: " + s.message());
-    }
-    return Status::Ok();
-  };
   Substeps = Rejected = FirstOrder = 0;
   FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
-    // Hair–hair: a search before each step; when pairs close fast, the step is cut into
-    // pieces that each start with a new search (HairHairContacts::updatesPerStep).
-    int pieces = 1;
-    if (Options.hairHairEnabled)
+    if (!Options.hairHairEnabled)
     {
-      if (Status s = findContacts(); !s)
-      {
-        return s;
-      }
-      pieces = HairHair.updatesPerStep(dt, Options.hairHairMaxUpdates);
-    }
-    for (int k = 0; k < pieces; ++k)
-    {
-      if (k > 0)
-      {
-        if (Status s = findContacts(); !s)
-        {
-          return s;
-        }
-      }
-      // The tolerance is per second of simulated time: each piece of a step gets its share.
-      const double tolerance = Options.tolerance * (dt / pieces);
-      if (Status s = stepStrands(Helices, dt / pieces, Run.threads, tolerance); !s)
+      // The tolerance is per second of simulated time: each step gets its share.
+      if (Status s = stepStrands(Helices, dt, Run.threads, Options.tolerance * dt); !s)
       {
         return s;
       }
       tally();
+      continue;
+    }
+    // Hair–hair: the pairs that may touch within the step are found before it and solved
+    // together with it (docs/hair-hair-contacts.md). The coupled step advances all strands
+    // together, so with a tolerance the sub-steps are common to all strands: each one's size
+    // comes from the largest error estimate of the previous one (as SuperHelix::advance
+    // chooses its next sub-step, e ∝ h²), and none is taken again (a coupled step is not
+    // undone): the estimates reported may exceed the tolerance where the motion changes
+    // abruptly.
+    double remaining = dt;
+    while (remaining > 1e-12 * dt)
+    {
+      double h = remaining;
+      if (Options.tolerance > 0)
+      {
+        h = std::max(NextCoupledStep > 0 ? std::min(NextCoupledStep, dt) : dt,
+                     dt / SuperHelix::MaxSubsteps);
+        if (h >= remaining * (1 - 1e-9))
+          h = remaining;
+        else if (h > 0.5 * remaining)
+          h = 0.5 * remaining;
+      }
+      const double t0 = time();
+      if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
+      {
+        return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
+                             " s: " + s.message());
+      }
+      tally();
+      HairHairWork += HairHair.stats().work;
+      HairHairDissipated += HairHair.stats().dissipated;
+      remaining -= h;
+      if (Options.tolerance > 0)
+      {
+        double error = 0;
+        for (const SuperHelix& helix : Helices)
+        {
+          error = std::max(error, helix.lastErrorEstimate());
+        }
+        const double ratio = error / (Options.tolerance * h);
+        const double grow = ratio > 0 ? 0.9 / ratio : 2.0;
+        NextCoupledStep = std::max(0.2 * h, std::min(h * grow, 2 * h));
+      }
     }
   }
   return Status::Ok();
@@ -371,13 +387,16 @@ void SuperHelixModel::describe(StateHeader& header) const
   if (Options.hairHairEnabled)
   {
     const HairHairParameters& h = Options.hairHair;
-    at["hair_hair_thickness"] = h.thickness;
+    at["hair_hair_thickness"] = HairHairThickness;
     at["hair_hair_stiffness"] = h.stiffness;
     at["hair_hair_damping"] = h.damping;
-    at["hair_hair_friction"] = h.friction;
+    at["hair_hair_friction_coefficient"] = h.friction;
+    at["hair_hair_margin"] = h.margin;
+    at["hair_hair_head_fibres"] = HairHairParameters::HeadFibres;
     at["hair_hair_per_length"] = h.perLength ? 1 : 0;
     at["hair_hair_reference_length"] = h.referenceLength;
-    at["hair_hair_max_updates"] = Options.hairHairMaxUpdates;
+    at["hair_hair_iterations"] = h.iterations;
+    at["hair_hair_tolerance"] = h.tolerance;
   }
 }
 
@@ -461,7 +480,19 @@ EnergyBudget SuperHelixModel::energy() const
   b.add("air_dissipated", EnergyKind::Dissipation, sum.total.airDissipated);
   b.add("root_work", EnergyKind::Work, sum.total.rootWork);
   b.add("wind_work", EnergyKind::Work, sum.total.windWork);
-  b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  if (Options.hairHairEnabled)
+  {
+    // The strands' contact work holds the hair–hair forces' work too: reported apart, as
+    // the work of the penalty (what the pairs' forces did, less what their damping and
+    // friction dissipated) and that dissipation, so that works − dissipations is unchanged.
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork - HairHairWork);
+    b.add("hair_hair_work", EnergyKind::Work, HairHairWork + HairHairDissipated);
+    b.add("hair_hair_dissipated", EnergyKind::Dissipation, HairHairDissipated);
+  }
+  else
+  {
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  }
   b.add(energy::Residual, EnergyKind::Residual, sum.total.residual);
   return b;
 }

@@ -32,18 +32,18 @@ struct SuperHelixOptions
   /// element end) add up to at most `tolerance` over each second (SuperHelix::advance with
   /// tolerance · dt for a step dt); 0: fixed steps of the run's time step. Measured on a
   /// released strand, the tip's error after 1 s stayed below the tolerance with both
-  /// integrators (docs/super-helix.md, "Accuracy on request").
+  /// integrators (docs/super-helix.md, "Accuracy on request"). With hair–hair contacts the
+  /// sub-steps are common to all strands, each sized from the previous one's largest
+  /// estimate and none taken again (docs/hair-hair-contacts.md).
   double tolerance = 0;
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the model.
   BodyContactParameters contacts;
-  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md). Before every step
-  /// the contacts are found from all strands; when pairs close fast the step is cut into up
-  /// to `hairHairMaxUpdates` pieces, each starting with a new search, so that no pair goes
-  /// deeper than `hairHair.allowedDepth` of the contact distance within one.
+  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md), solved together
+  /// with every step (stepStrandsWithContacts): the pairs that may touch within the step
+  /// are found before it, and their forces are unknowns of the step.
   bool hairHairEnabled = false;
   HairHairParameters hairHair;
-  int hairHairMaxUpdates = 8;
   /// How sag-free rest shapes are found (guides whose restShape is SagFree); a run sets it
   /// from SimulationOptions::sagFree.
   SagFreeOptions sagFree;
@@ -84,6 +84,8 @@ public:
   std::map<std::string, double> stepStatistics() const override;
 
   const std::vector<SuperHelix>& strands() const { return Helices; }
+  /// The hair–hair contacts of the last step (when enabled).
+  const HairHairContacts& hairHair() const { return HairHair; }
 
 private:
   /// Strand k from guide g: fitted to its groom, made sag-free when asked.
@@ -100,9 +102,14 @@ private:
   std::vector<GroomReport> Reports; ///< per strand: the fit and the rest shape
   BodyContacts Body;
   HairHairContacts HairHair;
+  // Hair–hair contacts since t = 0: the work of their forces on the strands (included in
+  // the strands' contact work) and what their damping and friction dissipated [J].
+  double HairHairWork = 0, HairHairDissipated = 0;
+  double HairHairThickness = 0; // as used: the automatic one when the option is 0
   // stepStatistics() of the steps since the last frame, added up after every stepStrands.
   void tally();
   double Substeps = 0, Rejected = 0, FirstOrder = 0;
+  double NextCoupledStep = 0;     // with hair–hair contacts and a tolerance: the next sub-step
   std::vector<double> FrameError; // per strand
 };
 
