@@ -20,6 +20,7 @@ namespace
 struct Contents
 {
   Handle File;
+  int Version = 0;
   StateHeader Header;
   std::int64_t Frames = 0;
   std::vector<double> Times;
@@ -57,8 +58,9 @@ Status openFile(const std::string& path, Handle& file)
   return Status::Ok();
 }
 
-/// The root's format and format_version attributes.
-Status checkFormat(hid_t f)
+/// The root's format and format_version attributes (version 1, or 2: written by several
+/// MPI ranks).
+Status checkFormat(hid_t f, int& version)
 {
   std::string format;
   if (!readStringAttribute(f, sf::FormatAttribute, format) || format != sf::Name)
@@ -68,11 +70,13 @@ Status checkFormat(hid_t f)
                     "attribute ") +
         sf::FormatAttribute + " = \"" + sf::Name + "\").");
   }
-  int version = 0;
-  if (!readIntAttribute(f, sf::VersionAttribute, version) || version != sf::Version)
+  version = 0;
+  if (!readIntAttribute(f, sf::VersionAttribute, version) ||
+      (version != sf::Version && version != sf::SharedVersion))
   {
     return Status::Error("has state-file format version " + std::to_string(version) +
-                         "; this HairDynamics reads version " + std::to_string(sf::Version) + ".");
+                         "; this HairDynamics reads versions " + std::to_string(sf::Version) +
+                         " and " + std::to_string(sf::SharedVersion) + ".");
   }
   return Status::Ok();
 }
@@ -194,12 +198,30 @@ Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
   return Status::Ok();
 }
 
-/// Whole frames: the length of /time, written last in every frame. Positions and
-/// velocities must hold at least as many frames, of the header's points.
-Status checkShapes(const FixedDatasets& d, const StateHeader& header, std::int64_t& frames)
+/// Whole frames: version 1, the length of /time, written last in every frame; version 2,
+/// /whole_frames, written once every rank's part of a frame is (/time is as long as the
+/// run). Positions and velocities must hold at least as many frames, of the header's points.
+Status checkShapes(hid_t f, int version, const FixedDatasets& d, const StateHeader& header,
+                   std::int64_t& frames)
 {
   const auto tdims = extent(d.Time.get());
   frames = tdims.size() == 1 ? std::int64_t(tdims[0]) : -1;
+  if (version == sf::SharedVersion && frames >= 0)
+  {
+    Handle whole;
+    if (Status s = openDataset(f, sf::WholeFrames, whole); !s)
+    {
+      return s;
+    }
+    std::int64_t count = -1;
+    if (!extent(whole.get()).empty() || !readWhole(whole.get(), H5T_NATIVE_INT64, &count) ||
+        count < 0 || count > frames)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is not a count of " + sf::Time +
+                     "'s frames.");
+    }
+    frames = count;
+  }
   const auto pdims = extent(d.Positions.get()), vdims = extent(d.Velocities.get());
   const hsize_t points = header.numberOfPoints();
   if (frames < 0 || pdims.size() != 3 || vdims.size() != 3 || pdims[1] != points ||
@@ -297,7 +319,7 @@ Status readFile(const std::string& path, Contents& c)
     return s;
   }
   const hid_t f = c.File.get();
-  if (Status s = checkFormat(f); !s)
+  if (Status s = checkFormat(f, c.Version); !s)
   {
     return s;
   }
@@ -312,7 +334,7 @@ Status readFile(const std::string& path, Contents& c)
   {
     return s;
   }
-  if (Status s = checkShapes(d, c.Header, c.Frames); !s)
+  if (Status s = checkShapes(f, c.Version, d, c.Header, c.Frames); !s)
   {
     return s;
   }
@@ -382,6 +404,11 @@ Status StateFileReader::open(const std::string& path)
   return Status::Ok();
 }
 
+int StateFileReader::version() const
+{
+  return P->Version;
+}
+
 Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
 {
   if (!P->File.valid())
@@ -432,6 +459,102 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
     {
       Handle d(ok ? H5Dopen2(f, sf::inGroup(sf::Frames, name).c_str(), H5P_DEFAULT) : -1);
       ok = ok && d.valid() && readSlab(d.get(), hsize_t(index), out.pointData[name]);
+    }
+  }
+  H5E_END_TRY;
+  if (!ok)
+  {
+    return Status::Error("the state file '" + P->Path + "': frame " + std::to_string(index) +
+                         " cannot be read: the file is damaged.");
+  }
+  for (const auto& [name, values] : P->Energies)
+  {
+    out.energy[name] = values[index];
+  }
+  frame = std::move(out);
+  return Status::Ok();
+}
+
+} // namespace hair
+
+namespace hair
+{
+
+Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int64_t>& strands,
+                                  StateFrame& frame) const
+{
+  if (!P->File.valid())
+  {
+    return Status::Error("the state file is not open.");
+  }
+  if (index < 0 || index >= P->Frames)
+  {
+    return Status::Error("the state file '" + P->Path + "' has " + std::to_string(P->Frames) +
+                         " whole frames; frame " + std::to_string(index) + " does not exist.");
+  }
+  const StateHeader& h = P->Header;
+  Runs points, rows;
+  for (std::size_t i = 0; i < strands.size();)
+  {
+    if (strands[i] < 0 || std::size_t(strands[i]) >= h.numberOfStrands() ||
+        (i > 0 && strands[i] <= strands[i - 1]))
+    {
+      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
+                           std::to_string(h.numberOfStrands()) + " strands.");
+    }
+    std::size_t j = i + 1;
+    while (j < strands.size() && strands[j] == strands[j - 1] + 1)
+    {
+      ++j;
+    }
+    const std::int64_t first = strands[i], last = strands[j - 1] + 1;
+    rows.emplace_back(hsize_t(first), hsize_t(last - first));
+    points.emplace_back(hsize_t(h.offsets[first]), hsize_t(h.offsets[last] - h.offsets[first]));
+    i = j;
+  }
+  StateFrame out;
+  out.time = P->Times[index];
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    const hid_t f = P->File.get();
+    auto read = [&](const char* name, const Runs& runs, std::vector<double>& data)
+    {
+      Handle d(ok ? H5Dopen2(f, name, H5P_DEFAULT) : -1);
+      RowSelection sel;
+      ok = ok && d.valid() && sel.build(d.get(), runs) && sel.moveToFrame(hsize_t(index));
+      if (ok)
+      {
+        data.resize(sel.values);
+        ok = H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(), H5P_DEFAULT,
+                     data.data()) >= 0;
+      }
+    };
+    auto vectors = [&](const char* name, std::vector<Eigen::Vector3d>& v)
+    {
+      std::vector<double> buffer;
+      read(name, points, buffer);
+      v.resize(buffer.size() / 3);
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
+      }
+    };
+    vectors(sf::Positions, out.positions);
+    vectors(sf::Velocities, out.velocities);
+    if (h.coordinatesPerStrand > 0)
+    {
+      read(sf::Q, rows, out.q);
+      read(sf::QDot, rows, out.qdot);
+    }
+    if (h.rootFrames)
+    {
+      read(sf::RootFrames, rows, out.rootFrames);
+      read(sf::RootVelocities, rows, out.rootVelocities);
+    }
+    for (const std::string& name : h.pointData)
+    {
+      read(sf::inGroup(sf::Frames, name).c_str(), points, out.pointData[name]);
     }
   }
   H5E_END_TRY;
