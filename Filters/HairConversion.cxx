@@ -354,7 +354,7 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     {
       lines->InsertCellPoint(i);
     }
-    ids->InsertNextValue(static_cast<vtkIdType>(k));
+    ids->InsertNextValue(static_cast<vtkIdType>(header.strandId(k)));
   }
   strands->Initialize();
   strands->SetPoints(points);

@@ -39,7 +39,7 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
     }
     if (Status s = strandFromPolyline(points, g.rootFrame().col(1), strands[k]); !s)
     {
-      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+      return Status::Error("strand " + std::to_string(run.strandId(k)) + ": " + s.message());
     }
     strands[k].parameters = material(g.hair);
   }

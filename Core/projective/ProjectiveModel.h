@@ -22,6 +22,8 @@ public:
   void describe(StateHeader& header) const override;
   void writeFrame(StateFrame& frame) const override;
   EnergyBudget energy() const override;
+  /// Its segments: every segment of every strand costs the same explicit update.
+  double stepCost(const GuideStrand& guide) const override { return guide.elements; }
 
   /// The explicit scheme's step: at most 1 ms, in whole steps per frame so that frames fall
   /// on their times.

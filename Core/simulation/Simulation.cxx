@@ -2,10 +2,12 @@
 
 #include "collision/PosedPart.h"
 #include "common/Parallel.h"
+#include "common/Partition.h"
 #include "strands/StrandParameters.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hair
 {
@@ -21,9 +23,14 @@ struct Simulation::Impl
   std::vector<long> Contacts;
   std::vector<double> Depth;
   Status Failed; ///< set when a step failed: the strands may then be at different times
+  /// This rank's strands: their numbers in the run, increasing (every strand without MPI).
+  std::vector<std::int64_t> Mine;
+  double Time = 0; ///< the run's time (a rank without strands has no model time)
 
+  const Ranks& ranks() const { return Options.ranks; }
   /// The model's state now as a frame, with the penetration into the scene's parts at the
-  /// same time (the same parts, poses and look-ups for every model).
+  /// same time (the same parts, poses and look-ups for every model). Under MPI (collective)
+  /// this rank's piece, with the whole run's time, energy and penetration.
   StateFrame record();
   void header(const std::vector<GuideStrand>& strands);
 };
@@ -31,8 +38,18 @@ struct Simulation::Impl
 StateFrame Simulation::Impl::record()
 {
   StateFrame f;
-  Model->writeFrame(f);
-  f.time = Model->time();
+  if (!Mine.empty())
+  {
+    Model->writeFrame(f);
+  }
+  else
+  {
+    f.pointData["curvature"];
+    f.pointData["twist"];
+  }
+  // Every rank with strands took the same steps to the same time; one without takes theirs.
+  f.time = ranks().max(Mine.empty() ? -std::numeric_limits<double>::infinity() : Model->time());
+  Time = f.time;
   f.energy = Model->energy().values();
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
@@ -54,6 +71,25 @@ StateFrame Simulation::Impl::record()
     count += inside[i];
     deepest = std::max(deepest, depthOf[i]);
   }
+  if (ranks().parallel())
+  {
+    // The whole run's energy (each rank's sums added: the same terms, in the map's order on
+    // every rank) and penetration.
+    std::vector<double> sums;
+    for (const auto& [name, value] : f.energy)
+    {
+      sums.push_back(value);
+    }
+    sums.push_back(double(count));
+    ranks().sum(sums.data(), int(sums.size()));
+    std::size_t i = 0;
+    for (auto& [name, value] : f.energy)
+    {
+      value = sums[i++];
+    }
+    count = static_cast<long>(std::llround(sums[i]));
+    deepest = ranks().max(deepest);
+  }
   Contacts.push_back(count);
   Depth.push_back(deepest);
   return f;
@@ -62,6 +98,24 @@ StateFrame Simulation::Impl::record()
 void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
 {
   Model->describe(Header);
+  if (ranks().parallel())
+  {
+    // The model described this rank's strands: the run's offsets from every rank's counts,
+    // and the coordinates per strand of the ranks that have strands.
+    std::vector<std::int64_t> points(strands.size(), 0);
+    for (std::size_t i = 0; i < Mine.size(); ++i)
+    {
+      points[Mine[i]] = Header.offsets[i + 1] - Header.offsets[i];
+    }
+    ranks().sum(points.data(), int(points.size()));
+    Header.offsets.assign(1, 0);
+    for (std::int64_t n : points)
+    {
+      Header.offsets.push_back(Header.offsets.back() + n);
+    }
+    Header.coordinatesPerStrand =
+        static_cast<int>(ranks().max(double(Header.coordinatesPerStrand)));
+  }
   for (const StrandParameter& p : strandParameters())
   {
     std::vector<double>& values = Header.strandParameters[p.file];
@@ -95,6 +149,60 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
   at["motion_frequency"] = m.frequency();
   at["motion_fade"] = m.fade();
 }
+
+std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
+                              int ranks)
+{
+  std::vector<Eigen::Vector3d> roots;
+  std::vector<double> costs;
+  for (const GuideStrand& g : guides)
+  {
+    roots.push_back(g.root);
+    costs.push_back(model.stepCost(g));
+  }
+  return bisect(roots, costs, ranks);
+}
+
+namespace
+{
+/// Under MPI, every rank must be given the same guides (the pipeline gives each rank the
+/// whole strands input): their number and a sum of their every number, compared.
+Status sameOnEveryRank(const std::vector<GuideStrand>& strands, const Ranks& ranks)
+{
+  if (!ranks.parallel())
+  {
+    return Status::Ok();
+  }
+  double sum = 0;
+  for (std::size_t k = 0; k < strands.size(); ++k)
+  {
+    const GuideStrand& g = strands[k];
+    const HairParameters& h = g.hair;
+    const double values[] = {
+        g.root.x(),         g.root.y(),          g.root.z(),    g.growth.x(),  g.growth.y(),
+        g.growth.z(),       g.normal.x(),        g.normal.y(),  g.normal.z(),  g.length,
+        double(g.elements), double(g.seed),      h.radius,      h.ellipticity, h.youngModulus,
+        h.poissonRatio,     h.density,           h.helixRadius, h.helixStep,   h.internalFriction,
+        h.airFriction,      h.curvatureVariation};
+    double i = 1;
+    for (double v : values)
+    {
+      sum += v * (double(k) + i++ / 32);
+    }
+  }
+  double lo[2] = {double(strands.size()), sum}, hi[2] = {lo[0], lo[1]};
+  ranks.min(lo, 2);
+  ranks.max(hi, 2);
+  if (lo[0] != hi[0] || !(lo[1] == hi[1] || (std::isnan(lo[1]) && std::isnan(hi[1]))))
+  {
+    return Status::Error("the ranks were given different guide strands (between " +
+                         std::to_string(long(lo[0])) + " and " + std::to_string(long(hi[0])) +
+                         " strands, or different values): under MPI every rank must be given the "
+                         "whole, same strands input.");
+  }
+  return Status::Ok();
+}
+} // namespace
 
 Simulation::Simulation() : P(std::make_unique<Impl>()) {}
 Simulation::~Simulation() = default;
@@ -130,16 +238,39 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   {
     return s;
   }
+  const Ranks& ranks = options.ranks;
+  if (Status s = sameOnEveryRank(strands, ranks); !s)
+  {
+    return s;
+  }
   r->Options = options;
   r->World = scene;
   r->Model = makeModel(options);
-  if (Status s = r->Model->initialize(strands, scene, options.run()); !s)
+  // This rank's share of the strands (all of them without MPI).
+  std::vector<GuideStrand> mine;
+  RunSettings run = options.run();
+  const std::vector<int> owner = ranks.parallel() ? shareStrands(strands, *r->Model, ranks.size())
+                                                  : std::vector<int>(strands.size(), 0);
+  for (std::size_t k = 0; k < strands.size(); ++k)
+  {
+    if (owner[k] == ranks.rank())
+    {
+      r->Mine.push_back(std::int64_t(k));
+      run.strandIds.push_back(int(k));
+      mine.push_back(strands[k]);
+    }
+  }
+  Status built = mine.empty() ? Status::Ok() : r->Model->initialize(mine, scene, run);
+  if (Status s = ranks.agree(built); !s)
   {
     return s;
   }
   r->header(strands);
   r->Extra = r->Model->energy().extraNames();
-  if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage); !s)
+  FileSharing sharing;
+  sharing.ranks = ranks;
+  sharing.strands = r->Mine;
+  if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage, sharing); !s)
   {
     return s;
   }
@@ -158,9 +289,12 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
     return P->Failed; // a failed step leaves strands at different times: stay stopped
   }
   const int first = numberOfFrames();
+  const Ranks& ranks = P->ranks();
   for (int f = first; f < frames; ++f)
   {
-    if (Status s = P->Model->advanceTo(f * P->Options.frameInterval); !s)
+    Status stepped =
+        P->Mine.empty() ? Status::Ok() : P->Model->advanceTo(f * P->Options.frameInterval);
+    if (Status s = ranks.agree(stepped); !s)
     {
       P->Failed = s;
       return s;
@@ -170,9 +304,9 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
       P->Failed = s;
       return s;
     }
-    if (progress && !progress(double(f - first + 1) / (frames - first)))
+    if (ranks.any(progress && !progress(double(f - first + 1) / (frames - first))))
     {
-      return Status::Error("the simulation was aborted at t = " + std::to_string(P->Model->time()) +
+      return Status::Error("the simulation was aborted at t = " + std::to_string(P->Time) +
                            " s; the frames computed so far are kept.");
     }
   }
@@ -213,6 +347,11 @@ Status Simulation::checkMemory(int frames, double availableBytes) const
 const StateHeader& Simulation::header() const
 {
   return P->Header;
+}
+
+const StateHeader& Simulation::piece() const
+{
+  return P->Store.piece();
 }
 
 const std::vector<std::string>& Simulation::extraEnergyTerms() const

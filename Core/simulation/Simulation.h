@@ -33,16 +33,32 @@ struct SimulationOptions
   double timeStep = 1.0 / 30;      ///< s; the projective model steps at most 1 ms (explicit)
   double frameInterval = 1.0 / 30; ///< s between stored frames
   int threads = 1;
+  /// The MPI ranks the strands are shared among (Simulation: by their roots, balanced by
+  /// each strand's step cost); one (the default): this process steps every strand.
+  Ranks ranks;
   SuperHelixOptions superHelix; ///< read by the Super-Helix model only
   ProjectiveOptions projective; ///< read by the projective model only (not its step, threads)
 
-  RunSettings run() const { return {timeStep, frameInterval, threads}; }
+  RunSettings run() const { return {timeStep, frameInterval, threads, {}, ranks}; }
 };
 
 /// The model `options` names, made with its options (simulation/ModelRegistry.cxx).
 std::unique_ptr<StrandModel> makeModel(const SimulationOptions& options);
 
+/// Which rank steps each of `guides` under `model` shared among `ranks` ranks: recursive
+/// coordinate bisection of the roots weighted by model.stepCost (common/Partition.h), so
+/// that each rank's strands are a compact patch of the scalp and their steps cost the same.
+std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
+                              int ranks);
+
 /// Steps the scene. Frame 0 is the initial state.
+///
+/// Under MPI (options.ranks of more than one rank) every call is collective, every rank is
+/// given the same guides, scene and options, and each steps its share of the strands
+/// (shareStrands): the frames a rank keeps and readFrame gives are its piece (piece() says
+/// which strands), the energy terms, the penetration measure and the times are the whole
+/// run's on every rank, and the state file is one, written by all. A failure on one rank
+/// (a strand that blows up, a write) stops every rank with that rank's message.
 class Simulation
 {
 public:
@@ -53,30 +69,36 @@ public:
 
   /// Checks everything, builds the model and computes (and stores) frame 0. Refuses no
   /// strands, bad parameters, a scene that does not validate, a run that cannot be stored,
-  /// NaN anywhere, with a message naming the culprit. On error the simulation is left
-  /// uninitialized.
+  /// NaN anywhere, and under MPI guides that differ between ranks, with a message naming the
+  /// culprit. On error the simulation is left uninitialized.
   Status initialize(const std::vector<GuideStrand>& strands, const Scene& scene,
                     const SimulationOptions& options, const StorageOptions& storage = {});
   /// Computes frames until `frames` of them exist. `progress` (fraction of the requested
-  /// frames) may abort; frames computed before the abort are kept. A step (or a write) that
-  /// fails stops with an error naming the strand and the time; the frames before it are
-  /// kept, and every later call returns the same error (initialize again to restart).
+  /// frames) may abort (under MPI: an abort on any rank stops every rank at the same frame);
+  /// frames computed before the abort are kept. A step (or a write) that fails stops with
+  /// an error naming the strand and the time; the frames before it are kept, and every
+  /// later call returns the same error (initialize again to restart).
   Status advanceTo(int frames, const Progress& progress = {});
 
   int numberOfFrames() const;
   /// Frame `index` as kept in memory: whole when hasFrameData(index), else only its time
-  /// and energy (readFrame reads it back).
+  /// and energy (readFrame reads it back). Under MPI, this rank's piece.
   const StateFrame& frame(int index) const;
   bool hasFrameData(int index) const;
-  /// Frame `index` whole, from memory or from the state file.
+  /// Frame `index` whole, from memory or from the state file (under MPI this rank's piece;
+  /// collective when the frame has left memory).
   Status readFrame(int index, StateFrame& out) const;
+  /// The header of this rank's strands (piece().strandIds: their numbers in the run); the
+  /// whole run's header() without MPI.
+  const StateHeader& piece() const;
   /// Memory one frame takes (bytes).
   double bytesPerFrame() const;
   /// Refuses a run of `frames` frames that would need more than `availableBytes`, with the
   /// figures and what to change (call after initialize()).
   Status checkMemory(int frames, double availableBytes) const;
 
-  /// The header of this run's state file and the energy terms beyond the required five.
+  /// The header of this run's state file (the whole run's) and the energy terms beyond the
+  /// required five.
   const StateHeader& header() const;
   const std::vector<std::string>& extraEnergyTerms() const;
   /// Per frame: nodes inside a body part (the scene's parts at the frame's time), and the

@@ -81,10 +81,12 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   for (std::size_t k = 0; k < guides.size(); ++k)
   {
     const GuideStrand& g = guides[k];
+    // The run's number of the strand (under MPI this rank has a share of the guides).
+    const int id = run.strandId(k);
     StrandSpec spec = StrandSpec::uniform(g.length, g.elements, g.hair);
-    spec.name = "strand " + std::to_string(k);
-    spec.id = static_cast<int>(k);
-    spec.seed = g.seed + static_cast<std::uint32_t>(k);
+    spec.name = "strand " + std::to_string(id);
+    spec.id = id;
+    spec.seed = g.seed + static_cast<std::uint32_t>(id);
     spec.gravity = World.gravity;
     if (uniformAir)
     {
@@ -100,15 +102,18 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     {
       return s;
     }
-    // The model lives on the heap and owns the strands: `this` outlives the hook.
+    // The model lives on the heap and owns the strands: `this` outlives the hook. The hook
+    // is told the strand's id (its number in the run); k is its place here.
     Helices[k].setContactForces(
-        [this](int strand, double t, const std::vector<StrandSample>& samples,
-               std::vector<ContactResponse>& response) { respond(strand, t, samples, response); });
+        [this, k](int id, double t, const std::vector<StrandSample>& samples,
+                  std::vector<ContactResponse>& response)
+        { respond(k, id, t, samples, response); });
   }
   return Status::Ok();
 }
 
-void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSample>& samples,
+void SuperHelixModel::respond(std::size_t strand, int id, double t,
+                              const std::vector<StrandSample>& samples,
                               std::vector<ContactResponse>& response) const
 {
   if (Options.contacts.enabled && !World.parts.empty())
@@ -120,11 +125,11 @@ void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSamp
   }
   if (Options.hairHairEnabled)
   {
-    HairHair.addResponses(strand, samples, response); // strand ids are their indices
+    HairHair.addResponses(id, samples, response); // found by the strands' ids
   }
   if (Options.additionalContacts)
   {
-    Options.additionalContacts(strand, t, samples, response);
+    Options.additionalContacts(id, t, samples, response);
   }
 }
 
@@ -269,6 +274,19 @@ void SuperHelixModel::writeFrame(StateFrame& f) const
     f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
     appendRoot(roots[k], f.rootFrames, f.rootVelocities);
   }
+}
+
+double SuperHelixModel::stepCost(const GuideStrand& g) const
+{
+  // A step costs about Element per element plus Sample per quadrature sample: the line
+  // through the four presets' steps at N = 10 (bench_superhelix BM_Step and its samples
+  // counter, docs/benchmarks.md "Cost of a strand"). The samples are those the quadrature
+  // takes for the guide's natural curl, as at rest.
+  constexpr double Element = 1.43, Sample = 0.108; // µs
+  const QuadratureChooser chooser(Options.quadratureTolerance);
+  const double turning = g.hair.naturalCurvature().norm() * g.length / g.elements;
+  const int samples = g.elements * chooser.choose(turning).samples();
+  return Element * g.elements + Sample * samples;
 }
 
 EnergyBudget SuperHelixModel::energy() const

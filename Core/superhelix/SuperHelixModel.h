@@ -59,11 +59,15 @@ public:
   void describe(StateHeader& header) const override;
   void writeFrame(StateFrame& frame) const override;
   EnergyBudget energy() const override;
+  /// µs of a step on the benchmark machine: per element and per quadrature sample of the
+  /// guide's natural curl (docs/benchmarks.md).
+  double stepCost(const GuideStrand& guide) const override;
 
   const std::vector<SuperHelix>& strands() const { return Helices; }
 
 private:
-  void respond(int strand, double t, const std::vector<StrandSample>& samples,
+  /// The contacts of Helices[strand], whose id (number in the run) is `id`.
+  void respond(std::size_t strand, int id, double t, const std::vector<StrandSample>& samples,
                std::vector<ContactResponse>& response) const;
 
   SuperHelixOptions Options;
