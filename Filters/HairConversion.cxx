@@ -2,8 +2,10 @@
 
 #include "strands/StrandParameters.h"
 
+#include <vtkAppendPolyData.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -11,6 +13,9 @@
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
+#include <vtkMPI.h>
+#include <vtkMPICommunicator.h>
+#include <vtkMPIController.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -564,6 +569,50 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
   }
   guides = std::move(out);
   return Status::Ok();
+}
+
+void appendGhosts(vtkPolyData* strands, vtkPolyData* ghosts)
+{
+  const vtkIdType ownCells = strands->GetNumberOfCells(), ownPoints = strands->GetNumberOfPoints();
+  vtkNew<vtkAppendPolyData> append;
+  vtkNew<vtkPolyData> own;
+  own->ShallowCopy(strands);
+  append->AddInputData(own);
+  append->AddInputData(ghosts);
+  append->Update();
+  strands->ShallowCopy(append->GetOutput());
+  // Field data (the frame's Time) is not appended: the strands' own.
+  strands->SetFieldData(own->GetFieldData());
+  vtkNew<vtkUnsignedCharArray> cellGhosts, pointGhosts;
+  cellGhosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  pointGhosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  cellGhosts->SetNumberOfTuples(strands->GetNumberOfCells());
+  pointGhosts->SetNumberOfTuples(strands->GetNumberOfPoints());
+  for (vtkIdType c = 0; c < strands->GetNumberOfCells(); ++c)
+  {
+    cellGhosts->SetValue(c, c < ownCells ? 0 : vtkDataSetAttributes::DUPLICATECELL);
+  }
+  for (vtkIdType p = 0; p < strands->GetNumberOfPoints(); ++p)
+  {
+    pointGhosts->SetValue(p, p < ownPoints ? 0 : vtkDataSetAttributes::DUPLICATEPOINT);
+  }
+  strands->GetCellData()->AddArray(cellGhosts);
+  strands->GetPointData()->AddArray(pointGhosts);
+}
+
+Ranks toRanks(vtkMultiProcessController* controller)
+{
+  vtkMPIController* mpi = vtkMPIController::SafeDownCast(controller);
+  if (!mpi || mpi->GetNumberOfProcesses() < 2)
+  {
+    return Ranks();
+  }
+  vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(mpi->GetCommunicator());
+  if (!communicator || !communicator->GetMPIComm() || !communicator->GetMPIComm()->GetHandle())
+  {
+    return Ranks();
+  }
+  return Ranks(*communicator->GetMPIComm()->GetHandle());
 }
 
 void toEnergyTable(const std::vector<double>& times,

@@ -163,6 +163,12 @@ public:
                    StateFrame& frame) const;
   /// The file's format_version (1: one writer; 2: written by several MPI ranks together).
   int version() const;
+  /// The strands of piece `piece` of `pieces` (increasing): when the file has the guides'
+  /// rest roots (/strands/rest_root), a compact patch of them, every piece as many strands
+  /// to within one (recursive coordinate bisection, common/Partition.h); otherwise a run of
+  /// consecutive strands. Every strand is in exactly one piece; a piece may be empty when
+  /// there are fewer strands than pieces.
+  std::vector<std::int64_t> pieceStrands(int piece, int pieces) const;
 
 private:
   struct Impl;

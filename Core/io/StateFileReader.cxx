@@ -2,6 +2,7 @@
 // with a message that says what is wrong, then reads frames on demand.
 #include "io/StateFile.h"
 
+#include "common/Partition.h"
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
 
@@ -407,6 +408,40 @@ Status StateFileReader::open(const std::string& path)
 int StateFileReader::version() const
 {
   return P->Version;
+}
+
+std::vector<std::int64_t> StateFileReader::pieceStrands(int piece, int pieces) const
+{
+  const std::size_t strands = P->Header.numberOfStrands();
+  std::vector<std::int64_t> mine;
+  if (pieces <= 1)
+  {
+    for (std::size_t k = 0; k < strands; ++k)
+    {
+      mine.push_back(std::int64_t(k));
+    }
+    return mine;
+  }
+  const auto roots = P->Header.strandVectors.find("rest_root");
+  if (roots != P->Header.strandVectors.end())
+  {
+    const std::vector<int> part = bisect(roots->second, std::vector<double>(strands, 1.0), pieces);
+    for (std::size_t k = 0; k < strands; ++k)
+    {
+      if (part[k] == piece)
+      {
+        mine.push_back(std::int64_t(k));
+      }
+    }
+    return mine;
+  }
+  const std::size_t first = strands * std::size_t(piece) / std::size_t(pieces);
+  const std::size_t last = strands * std::size_t(piece + 1) / std::size_t(pieces);
+  for (std::size_t k = first; k < last; ++k)
+  {
+    mine.push_back(std::int64_t(k));
+  }
+  return mine;
 }
 
 Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const

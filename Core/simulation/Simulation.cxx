@@ -25,6 +25,12 @@ struct Simulation::Impl
   Status Failed; ///< set when a step failed: the strands may then be at different times
   /// This rank's strands: their numbers in the run, increasing (every strand without MPI).
   std::vector<std::int64_t> Mine;
+  /// Every strand's rank and root at rest (the same on every rank), and the ghosts planned
+  /// last (for GhostLevels levels).
+  std::vector<int> Owner;
+  std::vector<Eigen::Vector3d> Roots;
+  mutable GhostStrands Ghosts;
+  mutable int GhostLevels = 0;
   double Time = 0; ///< the run's time (a rank without strands has no model time)
 
   const Ranks& ranks() const { return Options.ranks; }
@@ -251,6 +257,11 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   RunSettings run = options.run();
   const std::vector<int> owner = ranks.parallel() ? shareStrands(strands, *r->Model, ranks.size())
                                                   : std::vector<int>(strands.size(), 0);
+  r->Owner = owner;
+  for (const GuideStrand& g : strands)
+  {
+    r->Roots.push_back(g.root);
+  }
   for (std::size_t k = 0; k < strands.size(); ++k)
   {
     if (owner[k] == ranks.rank())
@@ -352,6 +363,29 @@ const StateHeader& Simulation::header() const
 const StateHeader& Simulation::piece() const
 {
   return P->Store.piece();
+}
+
+Status Simulation::ghostFrame(int index, int levels, StateHeader& header, StateFrame& frame) const
+{
+  const Ranks& ranks = P->ranks();
+  if (!P->Model || !ranks.parallel() || levels < 1)
+  {
+    header = P->Header.piece({});
+    frame = StateFrame();
+    return Status::Ok();
+  }
+  if (levels != P->GhostLevels)
+  {
+    P->Ghosts.plan(P->Roots, P->Owner, ranks.rank(), 3.0 * levels * typicalSpacing(P->Roots));
+    P->GhostLevels = levels;
+  }
+  StateFrame mine;
+  if (Status s = readFrame(index, mine); !s)
+  {
+    return s;
+  }
+  header = P->Header.piece(P->Ghosts.ghosts());
+  return P->Ghosts.exchange(ranks, P->Header, piece(), mine, frame);
 }
 
 const std::vector<std::string>& Simulation::extraEnergyTerms() const

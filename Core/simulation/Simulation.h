@@ -10,6 +10,7 @@
 #include "projective/ProjectiveStrands.h"
 #include "scene/Scene.h"
 #include "simulation/FrameStore.h"
+#include "simulation/GhostStrands.h"
 #include "strands/GuideStrand.h"
 #include "superhelix/SuperHelixModel.h"
 
@@ -91,6 +92,12 @@ public:
   /// The header of this rank's strands (piece().strandIds: their numbers in the run); the
   /// whole run's header() without MPI.
   const StateHeader& piece() const;
+  /// Under MPI, collective: frame `index` of the ghost strands of `levels` levels, the other
+  /// ranks' strands whose roots lie within `levels` × 3 typical root spacings
+  /// (typicalSpacing of every guide's root) of one of this rank's roots, and their header
+  /// (header().piece of them). Three spacings keep the four guides nearest to any point
+  /// of this rank's patch of scalp among its strands and ghosts. None without MPI or levels.
+  Status ghostFrame(int index, int levels, StateHeader& header, StateFrame& frame) const;
   /// Memory one frame takes (bytes).
   double bytesPerFrame() const;
   /// Refuses a run of `frames` frames that would need more than `availableBytes`, with the

@@ -7,9 +7,11 @@
 // (Testing/CMakeLists.txt, mpi.mpi_simulation); the runs on fewer ranks use the first ranks
 // of the world, the others waiting.
 #include "DemoScene.h"
+#include "analysis/StrandAnalysis.h"
 #include "common/Partition.h"
 #include "common/Ranks.h"
 #include "io/StateFile.h"
+#include "simulation/GhostStrands.h"
 #include "simulation/Simulation.h"
 
 #include <gtest/gtest.h>
@@ -649,6 +651,124 @@ TEST(Streaming, ARunLongerThanMemoryReadsReleasedFramesBackFromTheSharedFile)
       EXPECT_EQ(largestDifference(a, b), 0.0) << "frame " << f;
     }
   }
+}
+
+TEST(GhostStrands, GhostsAreTheOtherRanksStrandsWithinReach)
+{
+  const Ranks world(MPI_COMM_WORLD);
+  const std::vector<GuideStrand> guides = mixedGuides(60, 3);
+  std::vector<Eigen::Vector3d> roots;
+  for (const GuideStrand& g : guides)
+  {
+    roots.push_back(g.root);
+  }
+  const double spacing = typicalSpacing(roots);
+  // Against the definition, by brute force: the median distance to the nearest other root.
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < roots.size(); ++i)
+  {
+    double d = INFINITY;
+    for (std::size_t j = 0; j < roots.size(); ++j)
+    {
+      d = j == i ? d : std::min(d, (roots[i] - roots[j]).norm());
+    }
+    nearest.push_back(d);
+  }
+  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+  EXPECT_EQ(spacing, nearest[nearest.size() / 2]);
+
+  const std::vector<int> owner =
+      bisect(roots, std::vector<double>(roots.size(), 1.0), world.size());
+  GhostStrands ghosts;
+  ghosts.plan(roots, owner, world.rank(), 3 * spacing);
+  std::vector<std::int64_t> expected;
+  for (std::size_t n = 0; n < roots.size(); ++n)
+  {
+    bool near = false;
+    for (std::size_t k = 0; k < roots.size(); ++k)
+    {
+      near = near || (owner[k] == world.rank() && owner[n] != world.rank() &&
+                      (roots[n] - roots[k]).norm() <= 3 * spacing);
+    }
+    if (near)
+    {
+      expected.push_back(std::int64_t(n));
+    }
+  }
+  EXPECT_EQ(ghosts.ghosts(), expected);
+  // Partners are mutual: each rank's list, gathered, names it back.
+  std::vector<double> mine(ghosts.partners().begin(), ghosts.partners().end());
+  std::vector<double> counts{double(mine.size())};
+  const std::vector<double> all = world.gather(mine), sizes = world.gather(counts);
+  std::vector<std::set<int>> partners(world.size());
+  std::size_t at = 0;
+  for (int r = 0; r < world.size(); ++r)
+  {
+    for (int i = 0; i < int(sizes[r]); ++i)
+    {
+      partners[r].insert(int(all[at++]));
+    }
+  }
+  for (int r = 0; r < world.size(); ++r)
+  {
+    for (int p : partners[r])
+    {
+      EXPECT_TRUE(partners[p].count(r)) << r << " lists " << p;
+    }
+  }
+}
+
+TEST(StrandAnalysis, PiecesMeasureAsTheWhole)
+{
+  const Ranks world(MPI_COMM_WORLD);
+  // 21 strands of 3 to 7 points, shared round-robin among the ranks.
+  StrandsFrame whole, piece;
+  whole.offsets = piece.offsets = {0};
+  for (int k = 0; k < 21; ++k)
+  {
+    const int n = 3 + k % 5;
+    for (StrandsFrame* f : {&whole, &piece})
+    {
+      if (f == &piece && k % world.size() != world.rank())
+      {
+        continue;
+      }
+      for (int i = 0; i < n; ++i)
+      {
+        f->positions.emplace_back(0.01 * k + 0.003 * i * i, -0.02 * i, std::sin(k + i));
+        f->curvature.push_back(std::cos(3.0 * k + i));
+        f->twist.push_back(0.1 * k - i);
+        f->contactDepth.push_back(i == 1 ? 1e-4 * k : 0.0);
+      }
+      f->offsets.push_back(std::int64_t(f->positions.size()));
+      f->ids.push_back(k);
+    }
+  }
+  StrandAnalysisOptions o;
+  o.tracked = {20, 3};
+  o.group = {1, 5, 8, 13, 17};
+  StrandAnalysis one, shared;
+  ASSERT_TRUE(one.configure(o).ok());
+  ASSERT_TRUE(shared.configure(o).ok());
+  StrandMeasures a, b;
+  ASSERT_TRUE(one.measure(whole, a).ok());
+  ASSERT_TRUE(shared.measure(piece, b, world).ok());
+  // Maxima, counts, the span and the tracked tips exactly; the means to round-off (21 terms).
+  EXPECT_EQ(a.span, b.span);
+  EXPECT_EQ(a.maxCurvature, b.maxCurvature);
+  EXPECT_EQ(a.maxTwist, b.maxTwist);
+  EXPECT_EQ(a.maxDeflection, b.maxDeflection);
+  EXPECT_EQ(a.contacts, b.contacts);
+  EXPECT_EQ(a.maxContactDepth, b.maxContactDepth);
+  EXPECT_EQ(a.trackedTips, b.trackedTips);
+  EXPECT_LE((a.meanTip - b.meanTip).norm(), 20 * std::ldexp(1.0, -53) * 2.0);
+  EXPECT_NEAR(a.meanDeflection, b.meanDeflection, 20 * std::ldexp(1.0, -53));
+  // A strand no rank has is refused on every rank.
+  o.tracked = {21};
+  ASSERT_TRUE(shared.configure(o).ok());
+  const Status s = shared.measure(piece, b, world);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("strand 21"), std::string::npos) << s.message();
 }
 
 int main(int argc, char** argv)
