@@ -6,7 +6,9 @@
 #include "strands/StrandParameters.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 
 namespace hair
@@ -31,6 +33,7 @@ struct Simulation::Impl
   std::vector<Eigen::Vector3d> Roots;
   mutable GhostStrands Ghosts;
   mutable int GhostLevels = 0;
+  SimulationTimings Timings;
   double Time = 0; ///< the run's time (a rank without strands has no model time)
 
   const Ranks& ranks() const { return Options.ranks; }
@@ -171,6 +174,22 @@ std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const Stra
 
 namespace
 {
+/// Wall time and the process's CPU time since the last lap.
+struct Clock
+{
+  std::chrono::steady_clock::time_point Wall = std::chrono::steady_clock::now();
+  std::clock_t Cpu = std::clock();
+  void lap(double& wall, double& cpu)
+  {
+    const auto w = std::chrono::steady_clock::now();
+    const std::clock_t c = std::clock();
+    wall += std::chrono::duration<double>(w - Wall).count();
+    cpu += double(c - Cpu) / CLOCKS_PER_SEC;
+    Wall = w;
+    Cpu = c;
+  }
+};
+
 /// Under MPI, every rank must be given the same guides (the pipeline gives each rank the
 /// whole strands input): their number and a sum of their every number, compared.
 Status sameOnEveryRank(const std::vector<GuideStrand>& strands, const Ranks& ranks)
@@ -301,19 +320,30 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
   }
   const int first = numberOfFrames();
   const Ranks& ranks = P->ranks();
+  SimulationTimings& times = P->Timings;
   for (int f = first; f < frames; ++f)
   {
+    Clock clock;
     Status stepped =
         P->Mine.empty() ? Status::Ok() : P->Model->advanceTo(f * P->Options.frameInterval);
-    if (Status s = ranks.agree(stepped); !s)
+    clock.lap(times.stepWall, times.stepCpu);
+    double unused = 0;
+    Status agreed = ranks.agree(stepped);
+    clock.lap(times.waitWall, unused);
+    if (!agreed)
     {
-      P->Failed = s;
-      return s;
+      P->Failed = agreed;
+      return agreed;
     }
-    if (Status s = P->Store.add(P->record()); !s)
+    StateFrame recorded = P->record();
+    clock.lap(times.recordWall, times.recordCpu);
+    Status stored = P->Store.add(std::move(recorded));
+    clock.lap(times.storeWall, times.storeCpu);
+    ++times.frames;
+    if (!stored)
     {
-      P->Failed = s;
-      return s;
+      P->Failed = stored;
+      return stored;
     }
     if (ranks.any(progress && !progress(double(f - first + 1) / (frames - first))))
     {
@@ -424,6 +454,11 @@ void Simulation::energyTable(std::vector<double>& times,
 const StrandModel& Simulation::model() const
 {
   return *P->Model;
+}
+
+const SimulationTimings& Simulation::timings() const
+{
+  return P->Timings;
 }
 
 } // namespace hair

@@ -46,6 +46,20 @@ struct SimulationOptions
 /// The model `options` names, made with its options (simulation/ModelRegistry.cxx).
 std::unique_ptr<StrandModel> makeModel(const SimulationOptions& options);
 
+/// Where a run's time went on this rank, summed over the frames computed by advanceTo
+/// (seconds of wall time on the calling thread, and of the process's CPU time): stepping
+/// its strands, waiting for every rank's step (agree: the other ranks' longer steps), the
+/// frame's record (drawing the points, the penetration measure, the whole run's energy and
+/// penetration summed over the ranks) and storing it (the state file, shared or not).
+struct SimulationTimings
+{
+  int frames = 0;
+  double stepWall = 0, stepCpu = 0;
+  double waitWall = 0;
+  double recordWall = 0, recordCpu = 0;
+  double storeWall = 0, storeCpu = 0;
+};
+
 /// Which rank steps each of `guides` under `model` shared among `ranks` ranks: recursive
 /// coordinate bisection of the roots weighted by model.stepCost (common/Partition.h), so
 /// that each rank's strands are a compact patch of the scalp and their steps cost the same.
@@ -118,6 +132,8 @@ public:
                    std::map<std::string, std::vector<double>>& columns) const;
   /// The model being run (for tests and studies that look inside it).
   const StrandModel& model() const;
+  /// Where this rank's time went in advanceTo (benchmarks, docs/benchmarks.md).
+  const SimulationTimings& timings() const;
 
 private:
   struct Impl;
