@@ -65,6 +65,17 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
+  if (Options.hairHairEnabled && run.ranks.parallel())
+  {
+    // Each rank would find contacts among its own strands only: a run that silently differs
+    // from the same run on one rank. The ghost strands of the neighbouring ranks
+    // (simulation/GhostStrands.h) are there, but the contacts do not use them yet
+    // (docs/mpi.md, "Hair–hair contacts across ranks").
+    return Status::Error(
+        "hair–hair contacts: not available under MPI yet (" + std::to_string(run.ranks.size()) +
+        " ranks): each rank would only see contacts among its own strands. Run on one rank "
+        "(without mpirun, or mpirun -np 1), or turn hair–hair contacts off.");
+  }
   if (Options.hairHairEnabled)
   {
     HairHairParameters hh = Options.hairHair;

@@ -540,6 +540,35 @@ TEST(Failures, AStrandThatBlowsUpOnOneRankStopsEveryRank)
   }
 }
 
+TEST(Failures, HairHairContactsAreRefusedOnMoreThanOneRank)
+{
+  // Each rank would see contacts among its own strands only (a run that silently differs
+  // from one rank's): refused on every rank, with what to do; on one rank the run is built.
+  const Ranks world(MPI_COMM_WORLD);
+  if (world.size() < 2)
+  {
+    GTEST_SKIP() << "needs 2 ranks";
+  }
+  const std::vector<GuideStrand> guides = mixedGuides(8, 5);
+  SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  o.superHelix.hairHairEnabled = true;
+  o.ranks = world;
+  Simulation sim;
+  const Status s = sim.initialize(guides, demoScene(body()), o, StorageOptions());
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("hair–hair contacts: not available under MPI"), std::string::npos)
+      << s.message();
+  EXPECT_NE(s.message().find("turn hair–hair contacts off"), std::string::npos) << s.message();
+  const FirstRanks sub = firstRanks(1);
+  if (sub.member)
+  {
+    o.ranks = sub.ranks;
+    Simulation alone;
+    const Status one = alone.initialize(guides, demoScene(body()), o, StorageOptions());
+    EXPECT_TRUE(one.ok()) << one.message();
+  }
+}
+
 TEST(Failures, AFrameOneRankRefusesIsWrittenByNone)
 {
   const Ranks world(MPI_COMM_WORLD);
