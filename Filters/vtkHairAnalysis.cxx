@@ -31,9 +31,13 @@ vtkStandardNewMacro(vtkHairAnalysis);
 namespace
 {
 /// Columns of Hair Simulation's energy table that are not energy terms: this filter
-/// measures the same from contact_depth for both sources (contacts, max_contact_depth),
-/// so that the simulation and the reader of its state file give the same table.
-const char* const NotEnergy[] = {"Time", "nodes_inside", "max_depth"};
+/// measures the penetration from contact_depth for both sources (contacts,
+/// max_contact_depth), so that the simulation and the reader of its state file give the
+/// same table; the Super-Helix step statistics (sub-steps, error estimate) are not in a
+/// state file and are left out.
+const char* const NotEnergy[] = {"Time",          "nodes_inside",      "max_depth",
+                                 "substeps",      "rejected_substeps", "first_order_share",
+                                 "error_estimate"};
 
 bool isEnergyColumn(const std::string& name)
 {

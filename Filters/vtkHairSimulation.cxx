@@ -81,6 +81,9 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "PointsPerElement: " << this->PointsPerElement << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
      << indent << "QuadratureTolerance: " << this->QuadratureTolerance << "\n"
+     << indent
+     << "Integrator: " << (this->Integrator == SECOND_ORDER ? "second order" : "semi-implicit")
+     << " tolerance " << this->Tolerance << " m/s\n"
      << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
      << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
@@ -129,6 +132,7 @@ bool vtkHairSimulation::CheckProperties()
       {"Number Of Threads", double(this->NumberOfThreads), 1, 256, ""},
       {"Points Per Element", double(this->PointsPerElement), 1, 256, ""},
       {"Memory Budget", this->MemoryBudget, 0, 1e9, " MiB"},
+      {"Tolerance", this->Tolerance, 0, 1, " m/s"},
   };
   for (const Range& r : ranges)
   {
@@ -366,6 +370,9 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   hair::SuperHelixOptions& sh = o.superHelix;
   sh.pointsPerElement = this->PointsPerElement;
   sh.quadratureTolerance = this->QuadratureTolerance;
+  sh.integrator = this->Integrator == SECOND_ORDER ? hair::Integrator::Midpoint
+                                                   : hair::Integrator::SemiImplicit;
+  sh.tolerance = this->Tolerance;
   sh.contacts.enabled = this->Contacts;
   sh.contacts.stiffness = this->ContactStiffness;
   sh.contacts.dampingRatio = this->ContactDamping;

@@ -9,7 +9,8 @@
  * Output 0: the strands at the requested time (point data Velocity, Speed, curvature,
  * twist, contact_depth, Tangent, Director1; cell data StrandId, the per-strand parameters and
  * vectors), drawn by hair::drawGuides. Output 1: one row per
- * computed frame of every energy term, the nodes inside a body part and the deepest of them.
+ * computed frame of every energy term, the nodes inside a body part and the deepest of them,
+ * and the model's step statistics (Super-Helix: sub-steps and their error estimate).
  */
 #ifndef vtkHairSimulation_h
 #define vtkHairSimulation_h
@@ -77,6 +78,19 @@ public:
   vtkGetMacro(PointsPerElement, int);
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
+  /// Super-Helix: the time step, hair::Integrator (SEMI_IMPLICIT: the paper's, SECOND_ORDER:
+  /// the guarded implicit midpoint rule).
+  enum IntegratorType
+  {
+    SEMI_IMPLICIT = 0,
+    SECOND_ORDER = 1
+  };
+  vtkSetClampMacro(Integrator, int, SEMI_IMPLICIT, SECOND_ORDER);
+  vtkGetMacro(Integrator, int);
+  /// Super-Helix: accuracy on request, m per second of simulated time
+  /// (hair::SuperHelixOptions::tolerance); 0: fixed steps. Checked against [0, 1].
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
   /// Super-Helix: hair::SimulationOptions::quadratureTolerance. Not clamped here:
   /// hair::SimulationOptions::validate refuses values outside [1e-15, 1e-2] with a message.
   vtkSetMacro(QuadratureTolerance, double);
@@ -156,6 +170,8 @@ protected:
   int PointsPerElement = 16;
   int NumberOfThreads = 2;
   double QuadratureTolerance; ///< Core's default, set by the constructor
+  int Integrator = SEMI_IMPLICIT;
+  double Tolerance = 0; ///< m/s, 0: fixed steps
   bool Contacts = true;
   double ContactStiffness = 10;     ///< N/m²
   double ContactDamping = 1;        ///< fraction of critical

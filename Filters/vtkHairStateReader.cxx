@@ -13,6 +13,7 @@
 #include <vtkTable.h>
 
 #include <algorithm>
+#include <cmath>
 
 vtkStandardNewMacro(vtkHairStateReader);
 
@@ -91,12 +92,20 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
     vtkWarningMacro(<< "Hair State Reader: '" << this->FileName << "' holds no whole frame yet.");
     return 1;
   }
-  // The frame at or before the requested time (the first one before the run starts).
+  // The frame at or before the requested time: the first one before the run starts, the
+  // last one after it ends (as ParaView's readers of time series do); NaN is refused.
   std::int64_t frame = 0;
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
   {
     const double t = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    if (std::isnan(t))
+    {
+      vtkErrorMacro(<< "Hair State Reader: '" << this->FileName
+                    << "': the time asked for is NaN; ask for a time in [" << times.front() << ", "
+                    << times.back() << "] s.");
+      return 0;
+    }
     const auto it = std::upper_bound(times.begin(), times.end(), t + 1e-12 * (1 + std::abs(t)));
     frame = std::max<std::int64_t>(0, (it - times.begin()) - 1);
   }

@@ -10,7 +10,9 @@
  * (hair::drawGuides).
  * Output 1 (Energy): a vtkTable with one row per frame, columns Time and every energy term.
  * Reports TIME_STEPS (the frames' times); a request between frames gets the frame at or
- * before it.
+ * before it, one before the first frame the first, one after the last the last, and NaN an
+ * error. The file is opened anew at every RequestInformation (Reload Files), so each reader
+ * of a file being written sees its new frames.
  */
 #ifndef vtkHairStateReader_h
 #define vtkHairStateReader_h

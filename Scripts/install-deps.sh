@@ -18,6 +18,8 @@ PACKAGES=(
   libexpat1-dev libboost-dev libx11-dev
   # HairDynamics' own libraries
   libeigen3-dev libcgal-dev libhdf5-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # the fuzz target (Scripts/fuzz.sh): clang with libFuzzer and its OpenMP runtime
+  clang libclang-rt-14-dev libomp-14-dev
   # runtime of tests, demo and studies
   python3-numpy python3-matplotlib python3-h5py python3-mpi4py xvfb xauth mpi-default-bin
   # the GUI test: drives ParaView's menu and takes a screenshot

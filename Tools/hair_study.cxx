@@ -7,6 +7,7 @@
 //   hair_study release     out=<csv> [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]
 //   hair_study scene       out=<h5>  [strands=6] [n=10] [duration=1] [dt=1/30]
 //                          [model=super-helix|projective]
+//   hair_study integrator  out=<csv> [quick=0|1] [demo=0|1] [guides=200] [seconds=5]
 //   hair_study clump       out=<csv> [quick=0|1] [strands=50] [duration=6] [ramp=3]
 //                          [updates=4] [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]
 //                          [contacts=1] [amplitude=0.01] [frequency=3]
@@ -34,6 +35,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -746,13 +748,16 @@ int demo(const Arguments& args)
 
 /// The time step the study's strands take. Only the paper's semi-implicit step exists in this
 /// build; the option is there so that a study can name the step it used.
-Status integratorByName(const std::string& name)
+Status integratorByName(const std::string& name, Integrator& integrator)
 {
-  if (name != "semi-implicit")
-    return Status::Error("integrator=" + name +
-                         " is not available: this build has the paper's semi-implicit step "
-                         "only (integrator=semi-implicit).");
-  return Status::Ok();
+  for (Integrator i : {Integrator::SemiImplicit, Integrator::Midpoint})
+    if (name == toString(i))
+    {
+      integrator = i;
+      return Status::Ok();
+    }
+  return Status::Error("integrator=" + name + " is unknown; give semi-implicit (the paper's " +
+                       "step) or midpoint (the second-order step).");
 }
 
 /// The root frame of a hanging strand: tangent −y (gravity −y), n1 = +x.
@@ -863,10 +868,11 @@ int oscillation(const Arguments& args)
   double length = 0, amplitude = 0, duration = 0, dt = 0, fade = 0, rate = 0, window = 0, nu = -1;
   std::vector<double> gammas, frequencies;
   HairType type = HairType::Curly;
+  Integrator integrator = Integrator::SemiImplicit;
   std::ofstream out;
   Status s = presetByName(args.text("preset", "curly"), type);
   if (s)
-    s = integratorByName(args.text("integrator", "semi-implicit"));
+    s = integratorByName(args.text("integrator", "semi-implicit"), integrator);
   if (s)
     s = args.number("length", 0.3, 1e-3, 10, length);
   if (s)
@@ -946,6 +952,7 @@ int oscillation(const Arguments& args)
       if (s)
       {
         spec.root = drive.carriedRoot(Eigen::Vector3d::Zero(), hangingFrame());
+        spec.integrator = integrator;
         s = h.initialize(spec);
       }
       if (s)
@@ -1010,7 +1017,8 @@ int pendulum(const Arguments& args)
   std::vector<double> nus;
   std::vector<std::string> presets;
   std::ofstream out;
-  Status s = integratorByName(args.text("integrator", "semi-implicit"));
+  Integrator integrator = Integrator::SemiImplicit;
+  Status s = integratorByName(args.text("integrator", "semi-implicit"), integrator);
   if (s)
   {
     std::stringstream ss(args.text("presets", "smooth,fuzzy"));
@@ -1065,6 +1073,7 @@ int pendulum(const Arguments& args)
                                       .during(0, 1)
                                       .fading(0.25 / frequency);
         spec.root = drive.carriedRoot(Eigen::Vector3d::Zero(), hangingFrame());
+        spec.integrator = integrator;
         s = h.initialize(spec);
       }
       if (s)
@@ -1097,30 +1106,216 @@ int pendulum(const Arguments& args)
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------
+// Issue 23: the two time steps measured side by side (docs/super-helix.md, "The
+// second-order step", "Accuracy on request"). One CSV row per run:
+//   case, integrator, dt_s, tolerance_m_per_s, figure, value, steps, rejected, first_order,
+//   wall_s
+// release: a 30 cm smooth strand clamped horizontally, no friction, no air, 2 s; figure
+//   residual_share = residual / gravitational energy released at 2 s.
+// tip: the same strand with air drag 1e-5 kg/(m·s), 1 s, frames of 1/30 s; figure
+//   tip_error_m = the largest distance of its tip from that of the second-order step at
+//   1/7680 s over the frames (the reference, itself within 2.8e-5 m of 1/15360 s).
+// tolerance: the tip's strand in frames of 1/30 s with advance(1/30, tolerance/30).
+// demo (demo=1): the demo scene (Testing/Fixtures/DemoScene: wavy guides on the bundled
+//   body's scalp, head and trunk tables, ±0.5 rad 1 Hz shake, 0.5 m/s wind) through
+//   Simulation, `seconds` long, with and without contacts; figure closure = max |residual| /
+//   max |work done on the hair|, and the cost per simulated second.
+// quick=1: fewer step sizes and tolerances (seconds of run time).
+
+struct IntegratorRun
+{
+  std::vector<Eigen::Vector3d> tips;
+  double residualShare = 0, wall = 0;
+  long steps = 0, rejected = 0, firstOrder = 0;
+};
+
+IntegratorRun releasedStrand(Integrator integrator, double air, double seconds, int perFrame,
+                             double tolerance, Status& st)
+{
+  HairParameters p = HairParameters::preset(HairType::Smooth);
+  p.curvatureVariation = 0;
+  p.internalFriction = 0;
+  p.airFriction = air;
+  StrandSpec spec = StrandSpec::uniform(0.3, 10, p);
+  spec.integrator = integrator;
+  SuperHelix h;
+  IntegratorRun r;
+  if (st = h.initialize(spec); !st)
+    return r;
+  const double g0 = h.energy().gravitational;
+  const double dt = 1.0 / (30 * perFrame);
+  r.tips.push_back(h.position(0.3));
+  const auto start = std::chrono::steady_clock::now();
+  const long frames = std::lround(seconds * 30);
+  for (long f = 0; f < frames; ++f)
+  {
+    for (int k = 0; k < perFrame; ++k)
+    {
+      if (st = h.advance(dt, tolerance * dt); !st)
+        return r;
+      r.steps += h.lastSubsteps();
+      r.rejected += h.lastRejected();
+      r.firstOrder += h.lastFirstOrder();
+    }
+    r.tips.push_back(h.position(0.3));
+  }
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.residualShare = h.energy().total.residual / (g0 - h.energy().gravitational);
+  return r;
+}
+
+int integrator(const Arguments& args)
+{
+  int quick = 0, demo = 0, guides = 0;
+  double seconds = 0;
+  std::ofstream out;
+  Status s = args.integer("quick", 0, 0, 1, quick);
+  if (s)
+    s = args.integer("demo", 0, 0, 1, demo);
+  if (s)
+    s = args.integer("guides", 200, 1, 10000, guides);
+  if (s)
+    s = args.number("seconds", 5, 1.0 / 30, 100, seconds);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study integrator: " << s.message() << "\n";
+    return 2;
+  }
+  out << "case,integrator,dt_s,tolerance_m_per_s,figure,value,steps,rejected,first_order,wall_s\n";
+  const Integrator both[] = {Integrator::SemiImplicit, Integrator::Midpoint};
+  auto row = [&](const char* what, Integrator in, double dt, double tol, const char* figure,
+                 double value, const IntegratorRun& r)
+  {
+    out << what << "," << toString(in) << "," << dt << "," << tol << "," << figure << "," << value
+        << "," << r.steps << "," << r.rejected << "," << r.firstOrder << "," << r.wall << "\n";
+  };
+  auto fail = [&](const Status& st)
+  {
+    std::cerr << "hair_study integrator: " << st.message() << "\n";
+    return 1;
+  };
+  const std::vector<int> perFrame =
+      quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128};
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      Status st;
+      const IntegratorRun r = releasedStrand(in, 0, 2, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("release", in, 1.0 / (30 * per), 0, "residual_share", r.residualShare, r);
+    }
+  Status st;
+  const IntegratorRun ref = releasedStrand(Integrator::Midpoint, 1e-5, 1, 256, 0, st);
+  if (!st)
+    return fail(st);
+  auto tipError = [&](const IntegratorRun& r)
+  {
+    double e = 0;
+    for (size_t i = 0; i < r.tips.size() && i < ref.tips.size(); ++i)
+      e = std::max(e, (r.tips[i] - ref.tips[i]).norm());
+    return e;
+  };
+  for (Integrator in : both)
+    for (int per : perFrame)
+    {
+      if (per > 64)
+        continue;
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, per, 0, st);
+      if (!st)
+        return fail(st);
+      row("tip", in, 1.0 / (30 * per), 0, "tip_error_m", tipError(r), r);
+    }
+  const std::vector<double> tolerances = quick
+                                             ? std::vector<double>{0.05, 0.005}
+                                             : std::vector<double>{0.05, 0.02, 0.01, 0.005, 0.002};
+  for (Integrator in : both)
+    for (double tol : tolerances)
+    {
+      const IntegratorRun r = releasedStrand(in, 1e-5, 1, 1, tol, st);
+      if (!st)
+        return fail(st);
+      row("tolerance", in, 1.0 / 30, tol, "tip_error_m", tipError(r), r);
+    }
+  if (!demo)
+    return 0;
+  BundledBody body;
+  if (st = loadBundledBody(HAIR_DATA_DIR, body); !st)
+    return fail(st);
+  std::vector<GuideStrand> demoStrands;
+  if (st = demoGuides(body, guides, 10, demoStrands); !st)
+    return fail(st);
+  for (int contacts : {1, 0})
+    for (Integrator in : both)
+      for (double tol : {0.0, 0.005})
+      {
+        SimulationOptions o;
+        o.threads = 1;
+        o.superHelix.integrator = in;
+        o.superHelix.tolerance = tol;
+        o.superHelix.contacts.enabled = contacts != 0;
+        Simulation sim;
+        if (st = sim.initialize(demoStrands, demoScene(body), o); !st)
+          return fail(st);
+        const auto start = std::chrono::steady_clock::now();
+        if (st = sim.advanceTo(static_cast<int>(std::lround(seconds * 30)) + 1); !st)
+          return fail(st);
+        IntegratorRun r;
+        r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::vector<double> times;
+        std::map<std::string, std::vector<double>> c;
+        sim.energyTable(times, c);
+        double residual = 0, work = 0, substeps = 0, rejected = 0, firstOrder = 0;
+        for (size_t i = 0; i < times.size(); ++i)
+        {
+          const double w = -(c["gravitational"][i] - c["gravitational"][0]) + c["root_work"][i] +
+                           c["wind_work"][i] + c["contact_work"][i];
+          residual = std::max(residual, std::abs(c["residual"][i]));
+          work = std::max(work, std::abs(w));
+          substeps += c["substeps"][i];
+          rejected += c["rejected_substeps"][i];
+          firstOrder += c["first_order_share"][i] * c["substeps"][i];
+        }
+        // Per strand and simulated second.
+        r.steps = std::lround(substeps / seconds);
+        r.rejected = std::lround(rejected / seconds);
+        r.firstOrder = std::lround(firstOrder / seconds);
+        r.wall /= seconds;
+        row(contacts ? "demo_contacts" : "demo_no_contacts", in, 1.0 / 30, tol, "closure",
+            residual / work, r);
+      }
+  return 0;
+}
+
 int usage()
 {
-  std::cerr << "usage: hair_study <convergence|buckling|release|scene|clump|demo|oscillation|"
-               "pendulum> out=<file> "
-               "[key=value ...]\n"
-               "  convergence [ns=1,2,...,40] [length=0.1]\n"
-               "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
-               "              [dt=100] [maxsteps=20000] [tol=1e-13]\n"
-               "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
-               "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
-               "              (out=<file>.h5)\n"
-               "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
-               "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
-               "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
-               "              [amplitude=0.01] [frequency=3]\n"
-               "  demo        [model=projective] [strands=200] [n=40] [duration=5] [dt=1/30]\n"
-               "              [threads=2] [data=<Data dir>] (out=<file>.h5)\n"
-               "  oscillation [summary=<csv>] [shapes=<csv>] [preset=curly] [length=0.3] [n=40]\n"
-               "              [gammas=5e-11,1e-10,5e-10] [frequencies=3] [amplitude=0.01] [nu=]\n"
-               "              [duration=8] [fade=1] [window=2] [dt=1/2000] [rate=200]\n"
-               "              [integrator=semi-implicit]\n"
-               "  pendulum    [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5] [length=0.3]\n"
-               "              [n=10] [duration=8] [dt=1/2000] [push=0.02] [frequency=1]\n"
-               "              [rate=200] [integrator=semi-implicit]\n";
+  std::cerr
+      << "usage: hair_study <convergence|buckling|release|scene|integrator|clump|demo|oscillation|"
+         "pendulum> out=<file> "
+         "[key=value ...]\n"
+         "  convergence [ns=1,2,...,40] [length=0.1]\n"
+         "  buckling    [n=10] [loads=0.1,...,1.5 (x P_cr)] [tilt=1e-3] [length=0.1]\n"
+         "              [dt=100] [maxsteps=20000] [tol=1e-13]\n"
+         "  release     [n=10] [dt=1/30] [duration=2] [length=0.3] [preset=wavy]\n"
+         "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
+         "              (out=<file>.h5)\n"
+         "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
+         "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=4]\n"
+         "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
+         "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
+         "              [amplitude=0.01] [frequency=3]\n"
+         "  demo        [model=projective] [strands=200] [n=40] [duration=5] [dt=1/30]\n"
+         "              [threads=2] [data=<Data dir>] (out=<file>.h5)\n"
+         "  oscillation [summary=<csv>] [shapes=<csv>] [preset=curly] [length=0.3] [n=40]\n"
+         "              [gammas=5e-11,1e-10,5e-10] [frequencies=3] [amplitude=0.01] [nu=]\n"
+         "              [duration=8] [fade=1] [window=2] [dt=1/2000] [rate=200]\n"
+         "              [integrator=semi-implicit]\n"
+         "  pendulum    [presets=smooth,fuzzy] [nus=0,5e-6,1e-5,2e-5,5e-5] [length=0.3]\n"
+         "              [n=10] [duration=8] [dt=1/2000] [push=0.02] [frequency=1]\n"
+         "              [rate=200] [integrator=semi-implicit]\n";
   return 2;
 }
 
@@ -1136,6 +1331,7 @@ int main(int argc, char** argv)
        {"buckling", {{"out", "n", "loads", "tilt", "length", "dt", "maxsteps", "tol"}, buckling}},
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
+       {"integrator", {{"out", "quick", "demo", "guides", "seconds"}, integrator}},
        {"demo", {{"out", "strands", "n", "duration", "dt", "model", "threads", "data"}, demo}},
        {"oscillation",
         {{"out", "summary", "shapes", "preset", "integrator", "length", "n", "gammas",

@@ -69,26 +69,76 @@ namespace
 bool holdsOneValue(hid_t attr)
 {
   Handle space(H5Aget_space(attr));
-  return space.valid() && H5Sget_simple_extent_npoints(space.get()) == 1;
+  return space.valid() && H5Sget_simple_extent_type(space.get()) != H5S_NULL &&
+         H5Sget_simple_extent_npoints(space.get()) == 1;
+}
+
+/// The number of values an attribute holds, for messages (−1 if its space cannot be read).
+long long valueCount(hid_t attr)
+{
+  Handle space(H5Aget_space(attr));
+  if (!space.valid())
+  {
+    return -1;
+  }
+  return H5Sget_simple_extent_type(space.get()) == H5S_NULL
+             ? 0
+             : static_cast<long long>(H5Sget_simple_extent_npoints(space.get()));
+}
+
+const char* className(H5T_class_t c)
+{
+  switch (c)
+  {
+  case H5T_INTEGER:
+    return "an integer";
+  case H5T_FLOAT:
+    return "a floating-point number";
+  case H5T_STRING:
+    return "a string";
+  default:
+    return "of a type that is neither a number nor a string";
+  }
+}
+
+/// Opens attribute `name` of `obj` holding one value of class `wanted`, or says what is
+/// wrong with it.
+Status openOne(hid_t obj, const char* name, H5T_class_t wanted, Handle& attr, Handle& type)
+{
+  const std::string what = std::string("its attribute '") + name + "' ";
+  if (H5Aexists(obj, name) <= 0)
+  {
+    return Status::Error(what + "is missing");
+  }
+  attr = Handle(H5Aopen(obj, name, H5P_DEFAULT));
+  type = Handle(attr.valid() ? H5Aget_type(attr.get()) : -1);
+  if (!attr.valid() || !type.valid())
+  {
+    return Status::Error(what + "cannot be read");
+  }
+  if (!holdsOneValue(attr.get()))
+  {
+    return Status::Error(what + "holds " + std::to_string(valueCount(attr.get())) +
+                         " values where one is expected");
+  }
+  const H5T_class_t c = H5Tget_class(type.get());
+  if (c != wanted)
+  {
+    return Status::Error(what + "is " + className(c) + " where " + className(wanted) +
+                         " is expected");
+  }
+  return Status::Ok();
 }
 } // namespace
 
-bool readStringAttribute(hid_t obj, const char* name, std::string& value)
+Status readStringAttribute(hid_t obj, const char* name, std::string& value)
 {
-  if (H5Aexists(obj, name) <= 0)
+  Handle attr, type;
+  if (Status s = openOne(obj, name, H5T_STRING, attr, type); !s)
   {
-    return false;
+    return s;
   }
-  Handle attr(H5Aopen(obj, name, H5P_DEFAULT));
-  if (!attr.valid() || !holdsOneValue(attr.get()))
-  {
-    return false;
-  }
-  Handle type(H5Aget_type(attr.get()));
-  if (H5Tget_class(type.get()) != H5T_STRING)
-  {
-    return false;
-  }
+  const std::string unreadable = std::string("its attribute '") + name + "' cannot be read";
   if (H5Tis_variable_str(type.get()) > 0)
   {
     char* s = nullptr;
@@ -97,30 +147,52 @@ bool readStringAttribute(hid_t obj, const char* name, std::string& value)
     H5Tset_cset(memType.get(), H5Tget_cset(type.get()));
     if (H5Aread(attr.get(), memType.get(), &s) < 0 || s == nullptr)
     {
-      return false;
+      return Status::Error(unreadable);
     }
     value = s;
     H5free_memory(s);
-    return true;
+    return Status::Ok();
   }
+  // Fixed length: at most 64 KiB (the largest attribute HDF5's compact storage holds),
+  // read into a buffer one longer, so that a string without a terminating null ends.
   const std::size_t size = H5Tget_size(type.get());
+  if (size == 0 || size > 65536)
+  {
+    return Status::Error(unreadable + " (a fixed-length string of " + std::to_string(size) +
+                         " bytes)");
+  }
   std::string buffer(size + 1, '\0');
   Handle memType(H5Tcopy(H5T_C_S1));
   H5Tset_size(memType.get(), size + 1);
   H5Tset_cset(memType.get(), H5Tget_cset(type.get()));
   if (H5Aread(attr.get(), memType.get(), buffer.data()) < 0)
   {
-    return false;
+    return Status::Error(unreadable);
   }
   value = buffer.c_str();
-  return true;
+  return Status::Ok();
 }
 
-bool readIntAttribute(hid_t obj, const char* name, int& value)
+Status readIntAttribute(hid_t obj, const char* name, int& value)
 {
-  Handle attr(H5Aexists(obj, name) > 0 ? H5Aopen(obj, name, H5P_DEFAULT) : -1);
-  return attr.valid() && holdsOneValue(attr.get()) &&
-         H5Aread(attr.get(), H5T_NATIVE_INT, &value) >= 0;
+  Handle attr, type;
+  if (Status s = openOne(obj, name, H5T_INTEGER, attr, type); !s)
+  {
+    return s;
+  }
+  // Read as a 64-bit integer, then checked to fit an int (HDF5 would clip silently).
+  long long read = 0;
+  if (H5Aread(attr.get(), H5T_NATIVE_LLONG, &read) < 0)
+  {
+    return Status::Error(std::string("its attribute '") + name + "' cannot be read");
+  }
+  if (read < std::numeric_limits<int>::min() || read > std::numeric_limits<int>::max())
+  {
+    return Status::Error(std::string("its attribute '") + name + "' is " + std::to_string(read) +
+                         ", out of range");
+  }
+  value = static_cast<int>(read);
+  return Status::Ok();
 }
 
 bool readNumericAttribute(hid_t obj, const char* name, double& value)
@@ -145,17 +217,36 @@ bool readNumericAttribute(hid_t obj, const char* name, double& value)
   return true;
 }
 
+namespace
+{
+/// Collects names, at most MaxLinks of them (then stops the iteration with an error).
+herr_t collect(const char* name, void* data)
+{
+  auto* names = static_cast<std::vector<std::string>*>(data);
+  if (names->size() >= MaxLinks)
+  {
+    return -1;
+  }
+  names->push_back(name);
+  return 0;
+}
+} // namespace
+
 std::vector<std::string> attributeNames(hid_t obj)
 {
+  // In the order stored (H5_ITER_NATIVE), then sorted: HDF5 builds no table of them first
+  // (its sorted table of a damaged object's dense storage crashed in HDF5 itself).
   std::vector<std::string> names;
-  H5Aiterate2(
-      obj, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-      [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t
-      {
-        static_cast<std::vector<std::string>*>(data)->push_back(name);
-        return 0;
-      },
-      &names);
+  hsize_t at = 0;
+  if (H5Aiterate2(
+          obj, H5_INDEX_NAME, H5_ITER_NATIVE, &at,
+          [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t
+          { return collect(name, data); },
+          &names) < 0)
+  {
+    names.clear();
+  }
+  std::sort(names.begin(), names.end());
   return names;
 }
 
@@ -163,18 +254,22 @@ std::vector<std::string> attributeNames(hid_t obj)
 
 bool linkNames(hid_t group, std::vector<std::string>& names)
 {
+  // In the order stored (H5_ITER_NATIVE), then sorted: a sorted look-up by index builds a
+  // table of every link first, whose release crashed inside HDF5 1.10.8 on a damaged group
+  // in dense storage (Testing/Fuzz/regressions/crash-dense-link-table).
   names.clear();
-  H5G_info_t info{};
-  if (H5Gget_info(group, &info) < 0)
+  hsize_t at = 0;
+  const herr_t status = H5Literate(
+      group, H5_INDEX_NAME, H5_ITER_NATIVE, &at,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t
+      { return collect(name, data); },
+      &names);
+  if (status < 0)
   {
+    names.clear();
     return false;
   }
-  for (hsize_t k = 0; k < info.nlinks; ++k)
-  {
-    char name[256] = {0};
-    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof(name), H5P_DEFAULT);
-    names.push_back(name);
-  }
+  std::sort(names.begin(), names.end());
   return true;
 }
 
@@ -370,6 +465,45 @@ std::vector<hsize_t> extent(hid_t dataset)
     H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   }
   return dims;
+}
+
+bool describe(hid_t dataset, DatasetInfo& info)
+{
+  info = DatasetInfo{};
+  Handle type(H5Dget_type(dataset)), space(H5Dget_space(dataset)),
+      dcpl(H5Dget_create_plist(dataset));
+  if (!type.valid() || !space.valid() || !dcpl.valid())
+  {
+    return false;
+  }
+  info.typeClass = H5Tget_class(type.get());
+  info.typeSize = H5Tget_size(type.get());
+  info.simple = H5Sget_simple_extent_type(space.get()) == H5S_SIMPLE;
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > H5S_MAX_RANK)
+  {
+    return false;
+  }
+  info.dims.resize(rank);
+  if (rank > 0 && H5Sget_simple_extent_dims(space.get(), info.dims.data(), nullptr) < 0)
+  {
+    return false;
+  }
+  info.filters = H5Pget_nfilters(dcpl.get());
+  if (H5Pget_layout(dcpl.get()) == H5D_CHUNKED)
+  {
+    hsize_t chunk[H5S_MAX_RANK] = {0};
+    const int chunkRank = H5Pget_chunk(dcpl.get(), H5S_MAX_RANK, chunk);
+    // Saturating: a damaged file may declare chunks whose product overflows.
+    info.chunkValues = chunkRank > 0 ? 1 : 0;
+    for (int k = 0; k < chunkRank; ++k)
+    {
+      const hsize_t most = std::numeric_limits<hsize_t>::max();
+      info.chunkValues =
+          chunk[k] != 0 && info.chunkValues > most / chunk[k] ? most : info.chunkValues * chunk[k];
+    }
+  }
+  return info.filters >= 0;
 }
 
 bool readWhole(hid_t dataset, hid_t memType, void* data)

@@ -56,24 +56,31 @@ Status writeScalarAttribute(hid_t obj, const char* name, hid_t type, T value)
   return Status::Ok();
 }
 
-/// A string attribute, of fixed or variable length. False if it is missing or not a string.
-bool readStringAttribute(hid_t obj, const char* name, std::string& value);
+/// A string attribute holding one string, of fixed or variable length. Refused (with what
+/// is wrong: missing, of another shape or class, unreadable) otherwise; `value` is then
+/// untouched.
+Status readStringAttribute(hid_t obj, const char* name, std::string& value);
 
-/// An attribute read as an int. False if it is missing or cannot be read as one; `value` may
-/// have been written to even then.
-bool readIntAttribute(hid_t obj, const char* name, int& value);
+/// An integer attribute holding one value that fits an int. Refused (with what is wrong)
+/// otherwise; `value` is then untouched.
+Status readIntAttribute(hid_t obj, const char* name, int& value);
 
 /// An integer or floating-point attribute read as a double. False (and `value` untouched) if
 /// it is of another class or cannot be read.
 bool readNumericAttribute(hid_t obj, const char* name, double& value);
 
-/// The names of an object's attributes, in name order.
+/// The names of an object's attributes, in name order (none if they cannot be listed, or
+/// there are more than MaxLinks).
 std::vector<std::string> attributeNames(hid_t obj);
 
 // ---- Groups -----------------------------------------------------------------------------
 
-/// The names of a group's links, in name order, each cut to 255 characters. False (and no
-/// names) if the group's information cannot be read.
+/// The most links linkNames lists: a state file's groups hold tens; a damaged one may claim
+/// billions.
+inline constexpr hsize_t MaxLinks = 100000;
+
+/// The names of a group's links, in name order. False (and no names) if they cannot be
+/// listed or there are more than MaxLinks.
 bool linkNames(hid_t group, std::vector<std::string>& names);
 
 // ---- Datasets ---------------------------------------------------------------------------
@@ -133,6 +140,20 @@ bool readFirst(hid_t dataset, hsize_t count, double* data);
 
 /// A dataset's dimensions (empty for a scalar or an invalid dataset).
 std::vector<hsize_t> extent(hid_t dataset);
+
+/// What a dataset's metadata say, read without reading its data: enough to decide whether
+/// reading it is sensible before anything is allocated.
+struct DatasetInfo
+{
+  H5T_class_t typeClass = H5T_NO_CLASS;
+  std::size_t typeSize = 0;  ///< bytes per value in the file
+  std::vector<hsize_t> dims; ///< empty for a scalar
+  bool simple = false;       ///< a simple dataspace (not null, not scalar)
+  int filters = 0;           ///< filters in its pipeline (compression, …)
+  hsize_t chunkValues = 0;   ///< values per chunk (0: not chunked)
+};
+/// False if the dataset's type, space or creation properties cannot be read.
+bool describe(hid_t dataset, DatasetInfo& info);
 
 /// Reads a whole dataset as `memType`.
 bool readWhole(hid_t dataset, hid_t memType, void* data);

@@ -6,8 +6,13 @@
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
-#include <fstream>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
 
 namespace hair
 {
@@ -17,6 +22,18 @@ namespace sf = stateformat;
 
 namespace
 {
+/// Metadata read attempts on a single-writer/multiple-reader open. HDF5 retries a metadata
+/// read whose checksum fails (it may be one the writer is rewriting) and sleeps between
+/// attempts, each sleep twice the one before, from 1 ns; its default of 100 attempts makes a
+/// damaged file wait for days (issue 24: one waited 15 minutes and more). 24 attempts wait
+/// at most 2^24 ns ≈ 17 ms per metadata object, ample for a writer's flush of one frame.
+constexpr unsigned MetadataReadAttempts = 24;
+
+/// The largest ratio of a filtered (compressed) dataset's values to its bytes in the file
+/// allowed: deflate's own limit (1032:1, the zlib technical details), the only compression
+/// HDF5 builds in.
+constexpr double MaxCompression = 1032;
+
 /// What open() reads and readFrame() uses.
 struct Contents
 {
@@ -26,6 +43,8 @@ struct Contents
   std::int64_t Frames = 0;
   std::vector<double> Times;
   std::map<std::string, std::vector<double>> Energies;
+  /// The file's size and the memory any one read may take (bytes).
+  double FileBytes = 0, MemoryBytes = 0;
 };
 
 /// The datasets every state file has.
@@ -39,15 +58,62 @@ Status damaged(const std::string& what)
   return Status::Error("is a damaged state file: " + what);
 }
 
+std::string megabytes(double bytes)
+{
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.3g MB", bytes / 1e6);
+  return text;
+}
+
+/// Half this machine's memory: what a single read of a file may take at most.
+double memoryForOneRead()
+{
+  const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && size > 0 ? 0.5 * double(pages) * double(size) : 4e9;
+}
+
+/// What the path names, before HDF5 sees it: a FIFO, a device or a folder would make HDF5
+/// block or fail obscurely, so only a readable regular file goes on.
+Status checkPath(const std::string& path, double& bytes)
+{
+  struct stat info;
+  if (::stat(path.c_str(), &info) != 0)
+  {
+    return Status::Error(errno == ENOENT
+                             ? std::string("cannot be opened: it does not exist; check the path.")
+                             : "cannot be opened (" + std::string(std::strerror(errno)) +
+                                   "): check the path.");
+  }
+  if (S_ISDIR(info.st_mode))
+  {
+    return Status::Error("is a folder, not a state file: give the path of a .h5 file.");
+  }
+  if (!S_ISREG(info.st_mode))
+  {
+    return Status::Error("is not a regular file (a pipe, a device or a socket): it is not read; "
+                         "give the path of a state file.");
+  }
+  if (::access(path.c_str(), R_OK) != 0)
+  {
+    return Status::Error("cannot be read (" + std::string(std::strerror(errno)) +
+                         "): check its permissions.");
+  }
+  bytes = double(info.st_size);
+  return Status::Ok();
+}
+
 Status openFile(const std::string& path, Handle& file)
 {
   if (H5Fis_hdf5(path.c_str()) <= 0)
   {
     return Status::Error("is not an HDF5 file, so not a HairDynamics state file.");
   }
-  // A file still being written (or whose writer was killed) opens in SWMR-read mode; a file
-  // written otherwise (h5py, a copy) opens normally.
-  file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, H5P_DEFAULT));
+  // A file still being written (or whose writer was killed) opens in SWMR-read mode, with
+  // bounded retries; a file written otherwise (h5py, a copy), or whose SWMR open fails,
+  // opens normally (no retries).
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+  H5Pset_metadata_read_attempts(fapl.get(), MetadataReadAttempts);
+  file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, fapl.get()));
   if (!file.valid())
   {
     file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
@@ -64,16 +130,19 @@ Status openFile(const std::string& path, Handle& file)
 Status checkFormat(hid_t f, int& version)
 {
   std::string format;
-  if (!readStringAttribute(f, sf::FormatAttribute, format) || format != sf::Name)
+  if (Status s = readStringAttribute(f, sf::FormatAttribute, format); !s || format != sf::Name)
   {
-    return Status::Error(
-        std::string("is an HDF5 file but not a HairDynamics state file (its root has no "
-                    "attribute ") +
-        sf::FormatAttribute + " = \"" + sf::Name + "\").");
+    return Status::Error(std::string("is an HDF5 file but not a HairDynamics state file (its "
+                                     "root needs the attribute ") +
+                         sf::FormatAttribute + " = \"" + sf::Name + "\"; " +
+                         (s ? "it is \"" + format + "\"" : s.message()) + ").");
   }
   version = 0;
-  if (!readIntAttribute(f, sf::VersionAttribute, version) ||
-      (version != sf::Version && version != sf::SharedVersion))
+  if (Status s = readIntAttribute(f, sf::VersionAttribute, version); !s)
+  {
+    return damaged(s.message() + " (the format version, one integer).");
+  }
+  if (version != sf::Version && version != sf::SharedVersion)
   {
     return Status::Error("has state-file format version " + std::to_string(version) +
                          "; this HairDynamics reads versions " + std::to_string(sf::Version) +
@@ -82,36 +151,113 @@ Status checkFormat(hid_t f, int& version)
   return Status::Ok();
 }
 
-Status openDataset(hid_t f, const char* path, Handle& dataset)
+constexpr int AnyRank = -1;
+
+/// Opens the dataset at `path` and checks, from its metadata only, that it is an array of
+/// numbers (integers when `integers`) of rank `rank` (any: AnyRank).
+Status openArray(hid_t f, const std::string& path, int rank, bool integers, Handle& dataset,
+                 DatasetInfo& info)
 {
-  if (H5Lexists(f, path, H5P_DEFAULT) <= 0)
+  if (H5Lexists(f, path.c_str(), H5P_DEFAULT) <= 0)
   {
-    return damaged(std::string(path) + " is missing.");
+    return damaged(path + " is missing.");
   }
-  dataset = Handle(H5Dopen2(f, path, H5P_DEFAULT));
+  dataset = Handle(H5Dopen2(f, path.c_str(), H5P_DEFAULT));
   if (!dataset.valid())
   {
-    return damaged(std::string(path) + " cannot be opened.");
+    return damaged(path + " is not a dataset that can be opened.");
+  }
+  if (!describe(dataset.get(), info))
+  {
+    return damaged(path + ": its type or shape cannot be read.");
+  }
+  const bool number = info.typeClass == H5T_INTEGER || (!integers && info.typeClass == H5T_FLOAT);
+  if (!number || info.typeSize < 1 || info.typeSize > 16)
+  {
+    const char* held = info.typeClass == H5T_FLOAT    ? "floating-point numbers"
+                       : info.typeClass == H5T_STRING ? "strings"
+                       : info.typeClass == H5T_INTEGER
+                           ? "integers of an unusual size"
+                           : "values of a compound, array or other non-numeric type";
+    return damaged(path + " holds " + held + " where " + (integers ? "integers" : "numbers") +
+                   " are expected.");
+  }
+  if (!info.simple || (rank != AnyRank && int(info.dims.size()) != rank))
+  {
+    return damaged(path + " has " + std::to_string(info.dims.size()) + " dimensions where " +
+                   std::to_string(rank) + " are expected.");
   }
   return Status::Ok();
 }
 
-Status openFixedDatasets(hid_t f, FixedDatasets& d)
+/// Whether reading `values` values of a dataset is sensible before anything is allocated:
+/// they must be in the file (no more bytes than the file has, or than deflate could pack
+/// into it), its chunks no larger, and the memory at most half this machine's.
+Status checkBytes(const Contents& c, const std::string& path, const DatasetInfo& info,
+                  double values)
 {
-  Status s = openDataset(f, sf::Offsets, d.Offsets);
-  if (s)
+  const double inFile = values * double(info.typeSize);
+  const double ratio = info.filters > 0 ? MaxCompression : 1.0;
+  if (inFile > ratio * c.FileBytes)
   {
-    s = openDataset(f, sf::Time, d.Time);
+    return damaged(path + " declares " + megabytes(inFile) + " of values" +
+                   (info.filters > 0 ? " (compressed)" : "") + " but the file has " +
+                   megabytes(c.FileBytes) + ".");
   }
-  if (s)
+  if (values * sizeof(double) > c.MemoryBytes)
   {
-    s = openDataset(f, sf::Positions, d.Positions);
+    return Status::Error("is too large to read here: " + path + " would take " +
+                         megabytes(values * sizeof(double)) +
+                         " of memory, more than half of "
+                         "this machine's (" +
+                         megabytes(2 * c.MemoryBytes) + ").");
   }
-  if (s)
+  const double chunk = double(info.chunkValues) * double(info.typeSize);
+  if (chunk > std::max(1e6, ratio * c.FileBytes))
   {
-    s = openDataset(f, sf::Velocities, d.Velocities);
+    return damaged(path + " declares chunks of " + megabytes(chunk) + " in a file of " +
+                   megabytes(c.FileBytes) + ".");
   }
-  return s;
+  return Status::Ok();
+}
+
+/// A dataset of frames, [T', dims…] with T' ≥ the whole frames: checked that T' covers them,
+/// that each frame is shaped `frame`, and that every whole frame's values can be read.
+Status checkFrames(const Contents& c, const std::string& path, const DatasetInfo& info,
+                   const std::vector<hsize_t>& frame)
+{
+  std::string shape = "[T";
+  double perFrame = 1;
+  bool same = info.dims.size() == frame.size() + 1;
+  for (std::size_t k = 0; k < frame.size(); ++k)
+  {
+    shape += ", " + std::to_string(frame[k]);
+    perFrame *= double(frame[k]);
+    same = same && info.dims[k + 1] == frame[k];
+  }
+  shape += "]";
+  if (!same || std::int64_t(info.dims[0]) < c.Frames || info.dims[0] > hsize_t(INT64_MAX))
+  {
+    std::string dims;
+    for (hsize_t d : info.dims)
+    {
+      dims += (dims.empty() ? "" : ", ") + std::to_string(d);
+    }
+    return damaged(path + " is [" + dims + "] where " + shape + " with T ≥ " +
+                   std::to_string(c.Frames) + " (the length of " + sf::Time + ") is expected.");
+  }
+  return checkBytes(c, path, info, perFrame * double(c.Frames));
+}
+
+/// Reads a whole 1-D dataset of `count` values as doubles, or says it cannot.
+Status readValues(hid_t dataset, const std::string& path, hsize_t count, std::vector<double>& v)
+{
+  v.assign(count, 0.0);
+  if (count > 0 && !readFirst(dataset, count, v.data()))
+  {
+    return damaged(path + " cannot be read.");
+  }
+  return Status::Ok();
 }
 
 /// Every numeric attribute of the root but the format's own is a run attribute.
@@ -132,161 +278,284 @@ void readRunAttributes(hid_t f, std::map<std::string, double>& attributes)
   }
 }
 
-/// Per-strand parameters: every other dataset of /strands with one value per strand.
-void readStrandParameters(hid_t f, StateHeader& header)
+/// Per-strand parameters and vectors: every other dataset of /strands holding numbers, shaped
+/// [S] (a parameter) or [S, 3] (a vector); others are skipped (a later format may add them).
+/// Their values must be finite.
+Status readStrandData(const Contents& c, hid_t f, StateHeader& header)
 {
   Handle strands(H5Gopen2(f, sf::Strands, H5P_DEFAULT));
   std::vector<std::string> names;
-  linkNames(strands.get(), names);
+  if (!strands.valid() || !linkNames(strands.get(), names))
+  {
+    return damaged(std::string(sf::Strands) + " cannot be listed.");
+  }
+  const hsize_t count = header.numberOfStrands();
   for (const std::string& name : names)
   {
-    if (sf::inGroup(sf::Strands, name) == sf::Offsets)
+    const std::string path = sf::inGroup(sf::Strands, name);
+    if (path == sf::Offsets || H5Oexists_by_name(f, path.c_str(), H5P_DEFAULT) <= 0)
     {
       continue;
     }
-    Handle d(H5Dopen2(strands.get(), name.c_str(), H5P_DEFAULT));
-    const auto dims = extent(d.get());
-    if (dims.size() == 1 && dims[0] == header.numberOfStrands())
+    H5O_info_t object{};
+    if (H5Oget_info_by_name(f, path.c_str(), &object, H5P_DEFAULT) < 0 ||
+        object.type != H5O_TYPE_DATASET)
     {
-      std::vector<double> v(dims[0]);
-      if (readWhole(d.get(), H5T_NATIVE_DOUBLE, v.data()))
+      continue;
+    }
+    Handle d;
+    DatasetInfo info;
+    if (!openArray(f, path, AnyRank, false, d, info))
+    {
+      continue;
+    }
+    const std::size_t rank = info.dims.size();
+    const bool parameter = rank == 1 && info.dims[0] == count;
+    const bool vector = rank == 2 && info.dims[0] == count && info.dims[1] == 3;
+    if (!parameter && !vector)
+    {
+      continue;
+    }
+    if (Status s = checkBytes(c, path, info, double(count) * (vector ? 3 : 1)); !s)
+    {
+      return s;
+    }
+    std::vector<double> v(count * (vector ? 3 : 1));
+    if (!readWhole(d.get(), H5T_NATIVE_DOUBLE, v.data()))
+    {
+      return damaged(path + " cannot be read.");
+    }
+    const auto bad = std::find_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); });
+    if (bad != v.end())
+    {
+      return damaged(path + " holds a NaN or infinite value (strand " +
+                     std::to_string((bad - v.begin()) / (vector ? 3 : 1)) + ").");
+    }
+    if (parameter)
+    {
+      header.strandParameters[name] = std::move(v);
+    }
+    else
+    {
+      std::vector<Eigen::Vector3d> vectors(count);
+      for (hsize_t k = 0; k < count; ++k)
       {
-        header.strandParameters[name] = std::move(v);
+        vectors[k] = Eigen::Vector3d(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
       }
+      header.strandVectors[name] = std::move(vectors);
     }
   }
+  return Status::Ok();
 }
 
-/// Per-strand vectors: every dataset of /strands shaped [S, 3].
-void readStrandVectors(hid_t f, StateHeader& header)
-{
-  Handle strands(H5Gopen2(f, sf::Strands, H5P_DEFAULT));
-  std::vector<std::string> names;
-  linkNames(strands.get(), names);
-  for (const std::string& name : names)
-  {
-    Handle d(H5Dopen2(strands.get(), name.c_str(), H5P_DEFAULT));
-    const auto dims = extent(d.get());
-    if (dims.size() == 2 && dims[0] == header.numberOfStrands() && dims[1] == 3)
-    {
-      std::vector<Eigen::Vector3d> v(dims[0]);
-      if (readWhole(d.get(), H5T_NATIVE_DOUBLE, v.data()))
-      {
-        header.strandVectors[name] = std::move(v);
-      }
-    }
-  }
-}
+/// The largest coordinates per strand a file may declare: three per element (Super-Helix) of
+/// at most GuideStrand::maxElements (1000) elements.
+constexpr int MaxCoordinates = 3000;
 
 /// Everything of the header but the per-point scalars, which need the number of frames.
-Status readHeader(hid_t f, hid_t offsets, StateHeader& header)
+Status readHeader(const Contents& c, hid_t f, hid_t offsets, StateHeader& header)
 {
-  readStringAttribute(f, sf::ModelAttribute, header.model);
-  readIntAttribute(f, sf::CoordinatesAttribute, header.coordinatesPerStrand);
+  if (Status s = readStringAttribute(f, sf::ModelAttribute, header.model); !s)
+  {
+    return damaged(s.message() + " (the model's name, one string).");
+  }
+  if (Status s = readIntAttribute(f, sf::CoordinatesAttribute, header.coordinatesPerStrand); !s)
+  {
+    return damaged(s.message() + " (the coordinates per strand, one integer).");
+  }
+  if (header.coordinatesPerStrand < 0 || header.coordinatesPerStrand > MaxCoordinates)
+  {
+    return damaged(std::string(sf::CoordinatesAttribute) + " is " +
+                   std::to_string(header.coordinatesPerStrand) + ", outside [0, " +
+                   std::to_string(MaxCoordinates) + "].");
+  }
   readRunAttributes(f, header.attributes);
-  const auto n = extent(offsets);
-  header.offsets.resize(n.empty() ? 0 : n[0]);
-  if (n.size() != 1 || !readWhole(offsets, H5T_NATIVE_INT64, header.offsets.data()))
+  DatasetInfo info;
+  if (!describe(offsets, info))
+  {
+    return damaged(std::string(sf::Offsets) + ": its type or shape cannot be read.");
+  }
+  const hsize_t n = info.dims.empty() ? 0 : info.dims[0];
+  if (Status s = checkBytes(c, sf::Offsets, info, double(n)); !s)
+  {
+    return s;
+  }
+  header.offsets.resize(n);
+  if (n > 0 && !readWhole(offsets, H5T_NATIVE_INT64, header.offsets.data()))
   {
     return damaged(std::string(sf::Offsets) + " cannot be read.");
   }
   if (Status s = header.validate(); !s)
   {
-    return s;
+    return damaged(std::string(sf::Offsets) + ": " + s.message());
   }
-  readStrandParameters(f, header);
-  readStrandVectors(f, header);
-  return Status::Ok();
+  return readStrandData(c, f, header);
 }
 
 /// Whole frames: version 1, the length of /time, written last in every frame; version 2,
-/// /whole_frames, written once every rank's part of a frame is (/time is as long as the
-/// run). Positions and velocities must hold at least as many frames, of the header's points.
-Status checkShapes(hid_t f, int version, const FixedDatasets& d, const StateHeader& header,
-                   std::int64_t& frames)
+/// /whole_frames, written once every rank's part of a frame is (/time is as long as the run).
+/// The times of the whole frames must be finite and increasing; positions and velocities must
+/// hold at least as many frames, of the header's points.
+Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
 {
-  const auto tdims = extent(d.Time.get());
-  frames = tdims.size() == 1 ? std::int64_t(tdims[0]) : -1;
-  if (version == sf::SharedVersion && frames >= 0)
+  DatasetInfo time, positions, velocities;
+  if (!describe(d.Time.get(), time) || !describe(d.Positions.get(), positions) ||
+      !describe(d.Velocities.get(), velocities))
   {
-    Handle whole;
-    if (Status s = openDataset(f, sf::WholeFrames, whole); !s)
-    {
-      return s;
-    }
-    std::int64_t count = -1;
-    if (!extent(whole.get()).empty() || !readWhole(whole.get(), H5T_NATIVE_INT64, &count) ||
-        count < 0 || count > frames)
-    {
-      return damaged(std::string(sf::WholeFrames) + " is not a count of " + sf::Time +
-                     "'s frames.");
-    }
-    frames = count;
+    return damaged("the type or shape of " + std::string(sf::Time) + " or of the positions " +
+                   "cannot be read.");
   }
-  const auto pdims = extent(d.Positions.get()), vdims = extent(d.Velocities.get());
-  const hsize_t points = header.numberOfPoints();
-  if (frames < 0 || pdims.size() != 3 || vdims.size() != 3 || pdims[1] != points ||
-      vdims[1] != points || pdims[2] != 3 || vdims[2] != 3 ||
-      std::int64_t(std::min(pdims[0], vdims[0])) < frames)
+  c.Frames = std::int64_t(std::min<hsize_t>(time.dims[0], INT64_MAX));
+  if (Status s = checkBytes(c, sf::Time, time, double(c.Frames)); !s)
   {
-    return damaged(std::string(sf::Time) + ", " + sf::Positions + " and " + sf::Velocities +
-                   " do not agree in shape.");
+    return s;
+  }
+  if (c.Version == sf::SharedVersion)
+  {
+    // Version 2: /time is as long as the run from the start; /whole_frames, one int64
+    // written once every rank's part of a frame is, counts the whole frames.
+    if (H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) <= 0)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is missing (format version 2 counts its " +
+                     "whole frames there).");
+    }
+    Handle whole(H5Dopen2(f, sf::WholeFrames, H5P_DEFAULT));
+    DatasetInfo count;
+    if (!whole.valid() || !describe(whole.get(), count) || count.typeClass != H5T_INTEGER ||
+        !count.dims.empty() ||
+        H5Sget_simple_extent_type(Handle(H5Dget_space(whole.get())).get()) != H5S_SCALAR)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is not one integer (a scalar dataset).");
+    }
+    std::int64_t n = -1;
+    if (!readWhole(whole.get(), H5T_NATIVE_INT64, &n) || n < 0 || n > c.Frames)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is " + std::to_string(n) +
+                     ", not a count of whole frames between 0 and the length of " + sf::Time +
+                     ", " + std::to_string(c.Frames) + ".");
+    }
+    c.Frames = n;
+  }
+  const hsize_t points = c.Header.numberOfPoints();
+  if (Status s = checkFrames(c, sf::Positions, positions, {points, 3}); !s)
+  {
+    return s;
+  }
+  if (Status s = checkFrames(c, sf::Velocities, velocities, {points, 3}); !s)
+  {
+    return s;
+  }
+  if (Status s = readValues(d.Time.get(), sf::Time, hsize_t(c.Frames), c.Times); !s)
+  {
+    return s;
+  }
+  for (std::size_t k = 0; k < c.Times.size(); ++k)
+  {
+    if (!std::isfinite(c.Times[k]))
+    {
+      return damaged(std::string(sf::Time) + ": the time of frame " + std::to_string(k) + " is " +
+                     std::to_string(c.Times[k]) + ".");
+    }
+    if (k > 0 && !(c.Times[k] > c.Times[k - 1]))
+    {
+      return damaged(std::string(sf::Time) + " does not increase: frame " + std::to_string(k) +
+                     " is at " + std::to_string(c.Times[k]) + " s, frame " + std::to_string(k - 1) +
+                     " at " + std::to_string(c.Times[k - 1]) + " s.");
+    }
   }
   return Status::Ok();
 }
 
-Status readTimes(hid_t time, std::int64_t frames, std::vector<double>& times)
+/// /frames/q and /frames/qdot, [T', S, C], when the header has coordinates.
+Status checkCoordinates(const Contents& c, hid_t f)
 {
-  times.resize(frames);
-  if (frames > 0 && !readFirst(time, hsize_t(frames), times.data()))
+  const int coordinates = c.Header.coordinatesPerStrand;
+  for (const char* path : {sf::Q, sf::QDot})
   {
-    return damaged(std::string(sf::Time) + " cannot be read.");
-  }
-  return Status::Ok();
-}
-
-/// Per-point scalars: every other dataset of /frames shaped [T', P].
-void findPointData(hid_t f, std::int64_t frames, StateHeader& header)
-{
-  Handle group(H5Gopen2(f, sf::Frames, H5P_DEFAULT));
-  std::vector<std::string> names;
-  linkNames(group.get(), names);
-  for (const std::string& name : names)
-  {
-    if (sf::isFrameDataset(name))
+    if (coordinates == 0)
     {
       continue;
     }
-    Handle d(H5Dopen2(group.get(), name.c_str(), H5P_DEFAULT));
-    const auto dims = extent(d.get());
-    if (dims.size() == 2 && dims[1] == header.numberOfPoints() && std::int64_t(dims[0]) >= frames)
+    Handle d;
+    DatasetInfo info;
+    Status s = openArray(f, path, 3, false, d, info);
+    if (s)
     {
-      header.pointData.push_back(name);
+      s = checkFrames(c, path, info, {c.Header.numberOfStrands(), hsize_t(coordinates)});
+    }
+    if (!s)
+    {
+      return Status::Error(s.message().substr(0, s.message().size() - 1) + " (" +
+                           sf::CoordinatesAttribute + " is " + std::to_string(coordinates) + ").");
     }
   }
+  return Status::Ok();
+}
+
+/// Per-point scalars: every other dataset of /frames holding numbers, shaped [T', P]; a
+/// dataset of another shape or type is skipped (a later format may add it).
+Status findPointData(const Contents& c, hid_t f, StateHeader& header)
+{
+  Handle group(H5Gopen2(f, sf::Frames, H5P_DEFAULT));
+  std::vector<std::string> names;
+  if (!group.valid() || !linkNames(group.get(), names))
+  {
+    return damaged(std::string(sf::Frames) + " cannot be listed.");
+  }
+  for (const std::string& name : names)
+  {
+    const std::string path = sf::inGroup(sf::Frames, name);
+    if (sf::isFrameDataset(name) || H5Oexists_by_name(f, path.c_str(), H5P_DEFAULT) <= 0)
+    {
+      continue;
+    }
+    Handle d;
+    DatasetInfo info;
+    if (!openArray(f, path, 2, false, d, info) || info.dims[1] != header.numberOfPoints() ||
+        std::int64_t(info.dims[0]) < c.Frames)
+    {
+      continue;
+    }
+    if (Status s = checkFrames(c, path, info, {header.numberOfPoints()}); !s)
+    {
+      return s;
+    }
+    header.pointData.push_back(name);
+  }
+  return Status::Ok();
 }
 
 /// The optional root datasets: used when both are there, shaped [T', S, 12] and [T', S, 6]
-/// with T' ≥ `frames`; a file without them (or with others) reads without them.
-void findRootFrames(hid_t f, std::int64_t frames, StateHeader& header)
+/// with T' ≥ the whole frames; a file without them (or with others) reads without them.
+Status findRootFrames(const Contents& c, hid_t f, StateHeader& header)
 {
-  auto shaped = [&](const char* path, hsize_t values)
+  const hsize_t strands = header.numberOfStrands();
+  bool both = true;
+  for (auto [path, values] :
+       {std::pair<const char*, hsize_t>{sf::RootFrames, RootFrameValues},
+        std::pair<const char*, hsize_t>{sf::RootVelocities, RootVelocityValues}})
   {
-    if (H5Lexists(f, path, H5P_DEFAULT) <= 0)
+    Handle d;
+    DatasetInfo info;
+    const bool shaped = H5Lexists(f, path, H5P_DEFAULT) > 0 &&
+                        openArray(f, path, 3, false, d, info) && info.dims[1] == strands &&
+                        info.dims[2] == values && std::int64_t(info.dims[0]) >= c.Frames;
+    if (shaped)
     {
-      return false;
+      if (Status s = checkFrames(c, path, info, {strands, values}); !s)
+      {
+        return s;
+      }
     }
-    Handle d(H5Dopen2(f, path, H5P_DEFAULT));
-    const auto dims = extent(d.get());
-    return dims.size() == 3 && std::int64_t(dims[0]) >= frames &&
-           dims[1] == header.numberOfStrands() && dims[2] == values;
-  };
-  header.rootFrames =
-      shaped(sf::RootFrames, RootFrameValues) && shaped(sf::RootVelocities, RootVelocityValues);
+    both = both && shaped;
+  }
+  header.rootFrames = both;
+  return Status::Ok();
 }
 
-/// Every dataset of /energy, each of at least `frames` values.
-Status readEnergies(hid_t f, std::int64_t frames, std::map<std::string, std::vector<double>>& out)
+/// Every dataset of /energy, each of at least as many values as whole frames; the required
+/// terms must be there.
+Status readEnergies(Contents& c, hid_t f)
 {
   Handle energy(H5Gopen2(f, sf::Energy, H5P_DEFAULT));
   std::vector<std::string> names;
@@ -294,27 +563,47 @@ Status readEnergies(hid_t f, std::int64_t frames, std::map<std::string, std::vec
   {
     return damaged(std::string(sf::Energy) + " is missing.");
   }
+  for (const char* term : RequiredEnergyTerms)
+  {
+    if (std::find(names.begin(), names.end(), term) == names.end())
+    {
+      return damaged(sf::inGroup(sf::Energy, term) + " is missing.");
+    }
+  }
   for (const std::string& name : names)
   {
-    Handle d(H5Dopen2(energy.get(), name.c_str(), H5P_DEFAULT));
-    const auto dims = extent(d.get());
-    std::vector<double> v(frames);
-    if (dims.size() != 1 || std::int64_t(dims[0]) < frames)
+    const std::string path = sf::inGroup(sf::Energy, name);
+    Handle d;
+    DatasetInfo info;
+    if (Status s = openArray(f, path, 1, false, d, info); !s)
     {
-      return damaged(sf::inGroup(sf::Energy, name) + " is shorter than " + sf::Time + ".");
+      return s;
     }
-    if (frames > 0)
+    if (std::int64_t(info.dims[0]) < c.Frames)
     {
-      readFirst(d.get(), hsize_t(frames), v.data());
+      return damaged(path + " is shorter than " + sf::Time + ".");
     }
-    out[name] = std::move(v);
+    if (Status s = checkBytes(c, path, info, double(c.Frames)); !s)
+    {
+      return s;
+    }
+    if (Status s = readValues(d.get(), path, hsize_t(c.Frames), c.Energies[name]); !s)
+    {
+      return s;
+    }
   }
   return Status::Ok();
 }
 
-/// The steps of open(), in order; the first that fails refuses the file.
+/// The steps of open(), in order; the first that fails refuses the file. Every dataset's
+/// type and shape are checked against the others' and the file's size before it is read.
 Status readFile(const std::string& path, Contents& c)
 {
+  if (Status s = checkPath(path, c.FileBytes); !s)
+  {
+    return s;
+  }
+  c.MemoryBytes = memoryForOneRead();
   if (Status s = openFile(path, c.File); !s)
   {
     return s;
@@ -327,25 +616,41 @@ Status readFile(const std::string& path, Contents& c)
   // The fixed datasets are all opened before any is read, so that a missing one is reported
   // before a malformed one.
   FixedDatasets d;
-  if (Status s = openFixedDatasets(f, d); !s)
+  DatasetInfo info;
+  Status s = openArray(f, sf::Offsets, 1, true, d.Offsets, info);
+  if (s)
   {
-    return s;
+    s = openArray(f, sf::Time, 1, false, d.Time, info);
   }
-  if (Status s = readHeader(f, d.Offsets.get(), c.Header); !s)
+  if (s)
   {
-    return s;
+    s = openArray(f, sf::Positions, 3, false, d.Positions, info);
   }
-  if (Status s = checkShapes(f, c.Version, d, c.Header, c.Frames); !s)
+  if (s)
   {
-    return s;
+    s = openArray(f, sf::Velocities, 3, false, d.Velocities, info);
   }
-  if (Status s = readTimes(d.Time.get(), c.Frames, c.Times); !s)
+  if (s)
   {
-    return s;
+    s = readHeader(c, f, d.Offsets.get(), c.Header);
   }
-  findPointData(f, c.Frames, c.Header);
-  findRootFrames(f, c.Frames, c.Header);
-  return readEnergies(f, c.Frames, c.Energies);
+  if (s)
+  {
+    s = readTimes(c, f, d);
+  }
+  if (s)
+  {
+    s = checkCoordinates(c, f);
+  }
+  if (s)
+  {
+    s = findPointData(c, f, c.Header);
+  }
+  if (s)
+  {
+    s = findRootFrames(c, f, c.Header);
+  }
+  return s ? readEnergies(c, f) : s;
 }
 } // namespace
 
@@ -385,16 +690,17 @@ Status StateFileReader::open(const std::string& path)
     close();
     return Status::Error("'" + path + "' " + what);
   };
-  if (!std::ifstream(path))
-  {
-    return fail("cannot be opened: check the path.");
-  }
   auto r = std::make_unique<Impl>();
   r->Path = path;
   Status result = Status::Ok();
   H5E_BEGIN_TRY
   {
     result = readFile(path, *r);
+    // Not kept open: HDF5 shares one open file between every handle of a process, with the
+    // metadata it read first, so a handle kept here would show a second reader of the same
+    // file (and this one, reopened) the frames of the first open only (issue 24).
+    // readFrame() opens the file again.
+    r->File.reset();
   }
   H5E_END_TRY;
   if (!result)
@@ -444,9 +750,55 @@ std::vector<std::int64_t> StateFileReader::pieceStrands(int piece, int pieces) c
   return mine;
 }
 
+/// Frame `index` as read (`out`, the whole run or a piece of it) checked and given its
+/// energies: the writer refuses non-finite values, so one here is damage.
+static Status finishFrame(const Contents& r, const std::string& path, std::int64_t index,
+                          StateFrame& out, StateFrame& frame)
+{
+  // The writer refuses non-finite values, so one here is damage: the frame is refused
+  // rather than shown with points at NaN (which breaks the view's bounds and every filter
+  // after it).
+  std::string bad;
+  auto finite = [&](const double* v, std::size_t n, std::size_t per, const std::string& what)
+  {
+    for (std::size_t i = 0; bad.empty() && i < n; ++i)
+    {
+      if (!std::isfinite(v[i]))
+      {
+        bad = what + " " + std::to_string(i / per);
+      }
+    }
+  };
+  finite(out.positions.empty() ? nullptr : out.positions[0].data(), 3 * out.positions.size(), 3,
+         "the position of point");
+  finite(out.velocities.empty() ? nullptr : out.velocities[0].data(), 3 * out.velocities.size(), 3,
+         "the velocity of point");
+  const std::size_t c = std::size_t(std::max(1, r.Header.coordinatesPerStrand));
+  finite(out.q.data(), out.q.size(), c, "q of strand");
+  finite(out.qdot.data(), out.qdot.size(), c, "qdot of strand");
+  finite(out.rootFrames.data(), out.rootFrames.size(), RootFrameValues, "the root pose of strand");
+  finite(out.rootVelocities.data(), out.rootVelocities.size(), RootVelocityValues,
+         "the root velocity of strand");
+  for (const auto& [name, values] : out.pointData)
+  {
+    finite(values.data(), values.size(), 1, "'" + name + "' at point");
+  }
+  if (!bad.empty())
+  {
+    return Status::Error("the state file '" + path + "': frame " + std::to_string(index) +
+                         " is damaged: " + bad + " is NaN or infinite.");
+  }
+  for (const auto& [name, values] : r.Energies)
+  {
+    out.energy[name] = values[index];
+  }
+  frame = std::move(out);
+  return Status::Ok();
+}
+
 Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
 {
-  if (!P->File.valid())
+  if (P->Path.empty())
   {
     return Status::Error("the state file is not open.");
   }
@@ -460,12 +812,29 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
   bool ok = true;
   H5E_BEGIN_TRY
   {
-    const hid_t f = P->File.get();
-    std::vector<double> buffer;
-    auto vectors = [&](const char* name, std::vector<Eigen::Vector3d>& v)
+    Handle file;
+    double bytes = 0;
+    ok = checkPath(P->Path, bytes) && openFile(P->Path, file);
+    const hid_t f = file.get();
+    const StateHeader& h = P->Header;
+    // Frame `index` of the dataset at `path`, if each of its frames still holds `values`
+    // values (the file may have been replaced since open()).
+    auto slab = [&](const std::string& path, hsize_t values, std::vector<double>& v)
     {
-      Handle d(H5Dopen2(f, name, H5P_DEFAULT));
-      if (!d.valid() || !readSlab(d.get(), hsize_t(index), buffer))
+      Handle d(H5Dopen2(f, path.c_str(), H5P_DEFAULT));
+      const auto dims = extent(d.get());
+      double per = dims.empty() ? 0 : 1;
+      for (std::size_t k = 1; k < dims.size(); ++k)
+      {
+        per *= double(dims[k]);
+      }
+      return d.valid() && dims.size() >= 2 && dims[0] > hsize_t(index) && per == double(values) &&
+             readSlab(d.get(), hsize_t(index), v);
+    };
+    std::vector<double> buffer;
+    auto vectors = [&](const char* path, std::vector<Eigen::Vector3d>& v)
+    {
+      if (!slab(path, 3 * h.numberOfPoints(), buffer))
       {
         return false;
       }
@@ -476,38 +845,31 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
       }
       return true;
     };
-    ok = vectors(sf::Positions, out.positions) && vectors(sf::Velocities, out.velocities);
-    if (ok && P->Header.coordinatesPerStrand > 0)
+    ok = ok && vectors(sf::Positions, out.positions) && vectors(sf::Velocities, out.velocities);
+    const hsize_t strands = h.numberOfStrands();
+    if (ok && h.coordinatesPerStrand > 0)
     {
-      Handle q(H5Dopen2(f, sf::Q, H5P_DEFAULT)), qd(H5Dopen2(f, sf::QDot, H5P_DEFAULT));
-      ok = q.valid() && qd.valid() && readSlab(q.get(), hsize_t(index), out.q) &&
-           readSlab(qd.get(), hsize_t(index), out.qdot);
+      const hsize_t nq = strands * hsize_t(h.coordinatesPerStrand);
+      ok = slab(sf::Q, nq, out.q) && slab(sf::QDot, nq, out.qdot);
     }
-    if (ok && P->Header.rootFrames)
+    if (ok && h.rootFrames)
     {
-      Handle r(H5Dopen2(f, sf::RootFrames, H5P_DEFAULT));
-      Handle v(H5Dopen2(f, sf::RootVelocities, H5P_DEFAULT));
-      ok = r.valid() && v.valid() && readSlab(r.get(), hsize_t(index), out.rootFrames) &&
-           readSlab(v.get(), hsize_t(index), out.rootVelocities);
+      ok = slab(sf::RootFrames, strands * RootFrameValues, out.rootFrames) &&
+           slab(sf::RootVelocities, strands * RootVelocityValues, out.rootVelocities);
     }
-    for (const std::string& name : P->Header.pointData)
+    for (const std::string& name : h.pointData)
     {
-      Handle d(ok ? H5Dopen2(f, sf::inGroup(sf::Frames, name).c_str(), H5P_DEFAULT) : -1);
-      ok = ok && d.valid() && readSlab(d.get(), hsize_t(index), out.pointData[name]);
+      ok = ok && slab(sf::inGroup(sf::Frames, name), h.numberOfPoints(), out.pointData[name]);
     }
   }
   H5E_END_TRY;
   if (!ok)
   {
     return Status::Error("the state file '" + P->Path + "': frame " + std::to_string(index) +
-                         " cannot be read: the file is damaged.");
+                         " cannot be read: the file is damaged, or was replaced since it was "
+                         "opened (open it again).");
   }
-  for (const auto& [name, values] : P->Energies)
-  {
-    out.energy[name] = values[index];
-  }
-  frame = std::move(out);
-  return Status::Ok();
+  return finishFrame(*P, P->Path, index, out, frame);
 }
 
 } // namespace hair
@@ -518,7 +880,7 @@ namespace hair
 Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int64_t>& strands,
                                   StateFrame& frame) const
 {
-  if (!P->File.valid())
+  if (P->Path.empty())
   {
     return Status::Error("the state file is not open.");
   }
@@ -552,7 +914,11 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
   bool ok = true;
   H5E_BEGIN_TRY
   {
-    const hid_t f = P->File.get();
+    // Opened for this read, as readFrame does (the file may have grown or been replaced).
+    Handle file;
+    double bytes = 0;
+    ok = checkPath(P->Path, bytes) && openFile(P->Path, file);
+    const hid_t f = file.get();
     auto read = [&](const char* name, const Runs& runs, std::vector<double>& data)
     {
       Handle d(ok ? H5Dopen2(f, name, H5P_DEFAULT) : -1);
@@ -596,14 +962,10 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
   if (!ok)
   {
     return Status::Error("the state file '" + P->Path + "': frame " + std::to_string(index) +
-                         " cannot be read: the file is damaged.");
+                         " cannot be read: the file is damaged, or was replaced since it was "
+                         "opened (open it again).");
   }
-  for (const auto& [name, values] : P->Energies)
-  {
-    out.energy[name] = values[index];
-  }
-  frame = std::move(out);
-  return Status::Ok();
+  return finishFrame(*P, P->Path, index, out, frame);
 }
 
 } // namespace hair

@@ -372,48 +372,61 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
   P->Sharing = sharing;
   const bool writes = !shared || ranks.rank() == 0; // who writes what every rank has
   const hid_t f = P->File.get();
-  if (Status s = writeRootAttributes(f, header, shared ? sf::SharedVersion : sf::Version); !s)
+  // HDF5's error stack is never printed: each failure is returned as a message.
+  Status made = Status::Ok();
+  H5E_BEGIN_TRY
+  {
+    made = [&]() -> Status
+    {
+      if (Status s = writeRootAttributes(f, header, shared ? sf::SharedVersion : sf::Version); !s)
+      {
+        return s;
+      }
+      Handle strands(H5Gcreate2(f, sf::Strands, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+      if (Status s = writeStrands(strands.get(), header, writes); !s)
+      {
+        return s;
+      }
+      const PerFrame kind{shared ? hsize_t(sharing.frames) : 0};
+      const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
+      P->Time = kind.make(f, sf::Time, {}, true);
+      P->Positions = kind.make(frames.get(), sf::Positions, {points, 3});
+      P->Velocities = kind.make(frames.get(), sf::Velocities, {points, 3});
+      if (header.coordinatesPerStrand > 0)
+      {
+        const hsize_t c = hsize_t(header.coordinatesPerStrand);
+        P->Q = kind.make(frames.get(), sf::Q, {strandCount, c});
+        P->QDot = kind.make(frames.get(), sf::QDot, {strandCount, c});
+      }
+      if (!createRootFrames(frames.get(), header, kind, P->RootFrames, P->RootVelocities))
+      {
+        return Status::Error("cannot create the root datasets.");
+      }
+      if (Status s = createPointData(frames.get(), header, kind, P->PointData); !s)
+      {
+        return s;
+      }
+      if (Status s = createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy); !s)
+      {
+        return s;
+      }
+      if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
+          (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
+      {
+        return Status::Error("cannot create the per-frame datasets.");
+      }
+      return Status::Ok();
+    }();
+  }
+  H5E_END_TRY;
+  // Every rank creates the datasets together (collective under MPI): a failure on one is
+  // every rank's.
+  if (Status s = shared ? ranks.agree(made) : made; !s)
   {
     return fail(s.message());
   }
-  Handle strands(H5Gcreate2(f, sf::Strands, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  if (Status s = writeStrands(strands.get(), header, writes); !s)
-  {
-    return fail(s.message());
-  }
-  const PerFrame kind{shared ? hsize_t(sharing.frames) : 0};
-  const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
-  P->Time = kind.make(f, sf::Time, {}, true);
-  P->Positions = kind.make(frames.get(), sf::Positions, {points, 3});
-  P->Velocities = kind.make(frames.get(), sf::Velocities, {points, 3});
-  if (header.coordinatesPerStrand > 0)
-  {
-    const hsize_t c = hsize_t(header.coordinatesPerStrand);
-    P->Q = kind.make(frames.get(), sf::Q, {strandCount, c});
-    P->QDot = kind.make(frames.get(), sf::QDot, {strandCount, c});
-  }
-  if (!createRootFrames(frames.get(), header, kind, P->RootFrames, P->RootVelocities))
-  {
-    return fail("cannot create the root datasets.");
-  }
-  if (Status s = createPointData(frames.get(), header, kind, P->PointData); !s)
-  {
-    return fail(s.message());
-  }
-  if (Status s = createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy); !s)
-  {
-    return fail(s.message());
-  }
-  if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
-      (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
-  {
-    return fail("cannot create the per-frame datasets.");
-  }
-  strands.reset();
-  frames.reset();
-  energy.reset();
   if (!shared)
   {
     herr_t swmr;

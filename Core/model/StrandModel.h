@@ -12,6 +12,7 @@
 #include "scene/Scene.h"
 #include "strands/GuideStrand.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,10 @@ public:
   /// The cost of a step of `guide` relative to the other guides of a run (any unit): what the
   /// strands are shared among MPI ranks by (common/Partition.h). Called before initialize().
   virtual double stepCost(const GuideStrand& guide) const = 0;
+  /// How the model stepped since the previous frame, as named numbers for the energy table
+  /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
+  /// empty for a model that reports none.
+  virtual std::map<std::string, double> stepStatistics() const { return {}; }
 };
 
 } // namespace hair

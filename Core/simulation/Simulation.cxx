@@ -1,6 +1,7 @@
 #include "simulation/Simulation.h"
 
 #include "collision/PosedPart.h"
+#include "common/Machine.h"
 #include "common/Parallel.h"
 #include "common/Partition.h"
 #include "strands/StrandParameters.h"
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <ctime>
 #include <limits>
+#include <sstream>
 
 namespace hair
 {
@@ -24,6 +26,7 @@ struct Simulation::Impl
   FrameStore Store;
   std::vector<long> Contacts;
   std::vector<double> Depth;
+  std::vector<std::map<std::string, double>> Steps; ///< the model's stepStatistics per frame
   Status Failed; ///< set when a step failed: the strands may then be at different times
   /// This rank's strands: their numbers in the run, increasing (every strand without MPI).
   std::vector<std::int64_t> Mine;
@@ -60,6 +63,21 @@ StateFrame Simulation::Impl::record()
   f.time = ranks().max(Mine.empty() ? -std::numeric_limits<double>::infinity() : Model->time());
   Time = f.time;
   f.energy = Model->energy().values();
+  Steps.push_back(Model->stepStatistics());
+  if (ranks().parallel() && !Steps.back().empty())
+  {
+    // The whole run's: means over the strands weighted by each rank's strands, the share of
+    // first-order steps weighted by its sub-steps, the largest error estimate.
+    std::map<std::string, double>& steps = Steps.back();
+    const double n = double(Mine.size());
+    double sums[4] = {steps["substeps"] * n, steps["rejected_substeps"] * n,
+                      steps["first_order_share"] * steps["substeps"] * n, n};
+    ranks().sum(sums, 4);
+    steps["substeps"] = sums[3] > 0 ? sums[0] / sums[3] : 0.0;
+    steps["rejected_substeps"] = sums[3] > 0 ? sums[1] / sums[3] : 0.0;
+    steps["first_order_share"] = sums[0] > 0 ? sums[2] / sums[0] : 0.0;
+    steps["error_estimate"] = ranks().max(steps["error_estimate"]);
+  }
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
   std::vector<double>& depthOf = f.pointData["contact_depth"];
@@ -232,6 +250,43 @@ Status sameOnEveryRank(const std::vector<GuideStrand>& strands, const Ranks& ran
 Simulation::Simulation() : P(std::make_unique<Impl>()) {}
 Simulation::~Simulation() = default;
 
+Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationOptions& options,
+                      double availableBytes)
+{
+  // Measured with hair_study scene (200 and 400 wavy strands of 10, 50 and 100 elements, two
+  // frames, maximum resident memory): the Super-Helix model takes about 2.6 kB per element,
+  // the projective one 0.7 kB per segment; a frame's point takes its position and velocity
+  // and a few per-point scalars, about 80 bytes.
+  const bool superHelix = options.model == ModelType::SuperHelix;
+  const double perElement = superHelix ? 2600 : 700, perPoint = 80;
+  const int per = superHelix ? std::max(1, options.superHelix.pointsPerElement) : 1;
+  double elements = 0, points = 0;
+  for (const GuideStrand& g : strands)
+  {
+    elements += g.elements;
+    points += double(g.elements) * per + 1;
+  }
+  const double need = elements * perElement + 2 * points * perPoint;
+  if (need <= 0.75 * availableBytes)
+  {
+    return Status::Ok();
+  }
+  auto gb = [](double bytes)
+  {
+    std::ostringstream m;
+    m.precision(3);
+    m << bytes / 1e9 << " GB";
+    return m.str();
+  };
+  std::ostringstream m;
+  m << "the run's " << strands.size() << " strands of " << strands[0].elements
+    << " elements would need about " << gb(need) << " of memory to start (the model, "
+    << gb(elements * perElement) << ", and its first frame of " << points << " points), more "
+    << "than three quarters of this machine's " << gb(availableBytes)
+    << ": use fewer strands, fewer elements or fewer points per element.";
+  return Status::Error(m.str());
+}
+
 Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Scene& scene,
                               const SimulationOptions& options, const StorageOptions& storage)
 {
@@ -289,6 +344,14 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
       run.strandIds.push_back(int(k));
       mine.push_back(strands[k]);
     }
+  }
+  // Under MPI each rank holds the model and the frames of its share only: its share is what
+  // must fit (ranks that share a machine are not added up).
+  if (Status s = ranks.agree(mine.empty() ? Status::Ok()
+                                          : checkRunMemory(mine, options, physicalMemoryBytes()));
+      !s)
+  {
+    return s;
   }
   Status built = mine.empty() ? Status::Ok() : r->Model->initialize(mine, scene, run);
   if (Status s = ranks.agree(built); !s)
@@ -448,6 +511,10 @@ void Simulation::energyTable(std::vector<double>& times,
     }
     columns["nodes_inside"].push_back(static_cast<double>(P->Contacts[f]));
     columns["max_depth"].push_back(P->Depth[f]);
+    for (const auto& [name, value] : P->Steps[f])
+    {
+      columns[name].push_back(value);
+    }
   }
 }
 

@@ -65,6 +65,13 @@ struct SimulationTimings
 /// that each rank's strands are a compact patch of the scalp and their steps cost the same.
 std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
                               int ranks);
+/// Refuses a run whose model and first frame would need more than three quarters of
+/// `availableBytes`, with the figures (the model's memory per element as measured, the
+/// frame's points), before anything is allocated: Hair Strands allows 10^5 strands of 100
+/// elements, about 26 GB for the Super-Helix model alone. Simulation::initialize calls it
+/// with this machine's memory.
+Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationOptions& options,
+                      double availableBytes);
 
 /// Steps the scene. Frame 0 is the initial state.
 ///
@@ -126,8 +133,10 @@ public:
   /// deepest of them (m).
   const std::vector<long>& contacts() const;
   const std::vector<double>& maxDepth() const;
-  /// One row per frame so far: the frames' times and, by column, every energy term and the
-  /// penetration ("nodes_inside", "max_depth").
+  /// One row per frame so far: the frames' times and, by column, every energy term, the
+  /// penetration ("nodes_inside", "max_depth") and the model's step statistics since the
+  /// previous frame (StrandModel::stepStatistics; the Super-Helix model: "substeps",
+  /// "rejected_substeps", "first_order_share", "error_estimate"; zero in frame 0).
   void energyTable(std::vector<double>& times,
                    std::map<std::string, std::vector<double>>& columns) const;
   /// The model being run (for tests and studies that look inside it).

@@ -40,7 +40,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   Eigen::Vector3d al = root.angularAcceleration, ac = root.acceleration;
   HelixBasis basis;
   HelixEnd he;
-  double kinetic = 0, grav = 0;
+  double kinetic = 0, grav = 0, carried = 0;
   for (int e = 0; e < n; ++e)
   {
     const Eigen::Vector3d k = q.segment<3>(3 * e);
@@ -165,6 +165,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                           (nd.u * nd.coefficients.phi0) * omO[2] + f[1] * omO[3] +
                                           f[2] * omO[4];
           kinetic += 0.5 * nd.w * (RhoS * nd.v.squaredNorm() + RotI.dot(omLocal.cwiseAbs2()));
+          carried += nd.w * nd.v.dot(nd.v0);
           wr += nd.w * nd.r;
         }
       }
@@ -206,6 +207,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
   out.tip.acc0 = ac;
   out.kinetic = kinetic;
   out.gravitational = grav;
+  out.carried = RhoS * carried;
 }
 
 int SuperHelix::locate(double s, double& u) const

@@ -1,8 +1,8 @@
 // The time step: solve() (the step's linear system from M, C, K_T and the contact terms,
-// factorized by the unblocked LU of DenseLu.h or, for large N, Eigen's), step(),
-// singleStep() (one step of the semi-implicit scheme, its checks, the energy flows over the
-// step and the commit), advance() and stepCount() (step doubling to a tolerance), and
-// setState().
+// for either integrator, factorized by the unblocked LU of DenseLu.h or, for large N,
+// Eigen's), step(), singleStep() (one step of the semi-implicit or the midpoint scheme, its
+// checks, the energy flows over the step, its error estimate and the commit), advance()
+// (sub-steps controlled by that estimate), and setState().
 #include "superhelix/SuperHelix.h"
 
 #include "superhelix/DenseLu.h"
@@ -22,6 +22,14 @@ using detail::formStepSystem;
 
 namespace
 {
+// The second-order step is declined when it would create more energy than this fraction of
+// the energy the step moves (the kinetic energy at both ends and the flows' magnitudes).
+// Measured on the released frictionless strand (docs/super-helix.md, "The second-order
+// step"): with 0 about two thirds of its steps fell back at every dt from 1/30 to 1/240 s
+// (midpoint steps err either way by O(h³)), so the scheme was first order; with 0.1 a step
+// gaining 10 % at a time let the strand's energy grow fivefold at 1/240 s; 0.01 declined
+// 9, 11, 9, 7 steps (1/30 … 1/240 s) and none from 1/1920 s on.
+constexpr double EnergyGuard = 0.01;
 // Up to this size (3N) the step's matrix is factorized by luSolveInPlace (DenseLu.h), larger
 // ones by Eigen's blocked PartialPivLU. In whole steps of the wavy strand (alternated
 // processes) ours is faster up to 3N = 360 (N = 120: 1.9–3.1 ms a step against
@@ -31,13 +39,24 @@ constexpr int UnblockedLuMax = 360;
 
 Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
 {
+  // Semi-implicit ([B06] §3.4, docs/super-helix.md):
   // (M + hΓ + h²(𝕂 + K_T) + h D_air − ½ h C) q̇ⁿ⁺¹ = M q̇ⁿ + h (f − 𝕂 (qⁿ − q_rest) − ½ C q̇ⁿ)
-  // (docs/super-helix.md). D_air = ν ∫ JᵀJ, taken as (ν / ρS) M for a uniform strand (M's
-  // rotary-inertia share, < 1e-5 of it, gets the same factor). f is quadratic in q̇,
-  // f = f₀ + L q̇ + Q(q̇, q̇), C = ∂f/∂q̇ = L + 2 Q(q̇ⁿ, ·), so f − ½ C q̇ⁿ + ½ C q̇ⁿ⁺¹ =
-  // f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 + Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint,
-  // one factor of the quadratic ones at the new velocity.
-  const double airScale = 1 + h * Spec.hair.airFriction / RhoS;
+  // D_air = ν ∫ JᵀJ, taken as (ν / ρS) M for a uniform strand (M's rotary-inertia share,
+  // < 1e-5 of it, gets the same factor). f is quadratic in q̇, f = f₀ + L q̇ + Q(q̇, q̇),
+  // C = ∂f/∂q̇ = L + 2 Q(q̇ⁿ, ·), so f − ½ C q̇ⁿ + ½ C q̇ⁿ⁺¹ = f₀ + L (q̇ⁿ + q̇ⁿ⁺¹)/2 +
+  // Q(q̇ⁿ, q̇ⁿ⁺¹): the linear (gyroscopic) terms at the midpoint, one factor of the quadratic
+  // ones at the new velocity.
+  // Midpoint (while attemptStep takes one): the current state is the predicted midpoint
+  // q̃ = qⁿ + h/2 q̇ⁿ, t + h/2, with velocity q̇ⁿ, and the midpoint rule
+  // M (q̇ⁿ⁺¹ − q̇ⁿ) = h Φ(q_m, q̇_m), q_m = qⁿ + h/4 (q̇ⁿ + q̇ⁿ⁺¹), q̇_m = (q̇ⁿ + q̇ⁿ⁺¹)/2, is
+  // linearized about it with the same M, C, K_T: q_m − q̃ = h/4 (q̇ⁿ⁺¹ − q̇ⁿ),
+  // q̇_m − q̇ⁿ = ½ (q̇ⁿ⁺¹ − q̇ⁿ):
+  // (M + ½hΓ + ¼h²(𝕂 + K_T) + ½h D_air − ½ h C) q̇ⁿ⁺¹
+  //   = (M − ½h D_air − ½ h C + ¼h² K_T) q̇ⁿ + h (f − 𝕂 (q̃ − q_rest)) + (¼h² 𝕂 − ½hΓ) q̇ⁿ.
+  const bool midpoint = MidpointStep;
+  const double hv = midpoint ? 0.5 * h : h;          // weight of the velocity terms
+  const double hk = midpoint ? 0.25 * h * h : h * h; // weight of the stiffness terms
+  const double nu = Spec.hair.airFriction;
   detail::StepWorkspace& ws = detail::stepWorkspace();
   const Eigen::MatrixXd &M = ws.M, &C = ws.C, &Kt = ws.Kt;
   Eigen::MatrixXd& Lhs = ws.Lhs;
@@ -45,12 +64,22 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   const int m = static_cast<int>(M.rows());
   Lhs.resize(m, m);
   Rhs = h * (F - (Kdiag.array() * (Q - Qrest).array()).matrix());
-  // Lhs and M q̇ − ½ h C q̇ in one pass over M, C and K_T.
+  // The mass matrix's vector of the midpoint step's right-hand side, (1 − h/2 ν/ρS) q̇ⁿ.
+  thread_local Eigen::VectorXd u;
+  if (midpoint)
+  {
+    Rhs.array() += (hk * Kdiag.array() - hv * Gdiag.array()) * Qdot.array();
+    u = (1 - hv * nu / RhoS) * Qdot;
+  }
+  // (The semi-implicit step's factor in the order it always had: the same bits.)
+  const double airScale = midpoint ? 1 + hv * nu / RhoS : 1 + h * nu / RhoS;
+  // Lhs and the right-hand side's (M − ½ h C) q̇ⁿ (semi-implicit) or
+  // M u + (¼h² K_T − ½ h C) q̇ⁿ (midpoint) in one pass over M, C and K_T.
   if (!formStepSystem(Lhs.data(), Rhs.data(), M.data(), C.data(), Kt.data(), Qdot.data(), m,
-                      airScale, 0.5 * h, h * h))
+                      airScale, 0.5 * h, hk, midpoint ? u.data() : nullptr, hk))
     return Status::Error("the step's matrix (mass matrix, velocity Jacobian or tension "
                          "stiffness) is not finite. Check the root motion and forces");
-  Lhs.diagonal() += h * Gdiag + h * h * Kdiag;
+  Lhs.diagonal() += hv * Gdiag + hk * Kdiag;
   if (ContactsSet) // else no sample has a contact stiffness or damping: skip the pass
     addContactJacobians(h);
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
@@ -105,82 +134,134 @@ Status SuperHelix::checkStep(double dt) const
   return Status::Ok();
 }
 
-Status SuperHelix::stepCount(double dt, int count)
-{
-  if (count == 1)
-    return singleStep(dt);
-  const Eigen::VectorXd q0 = Q, qd0 = Qdot;
-  const double t0 = Time;
-  const EnergyReport e0 = Energy;
-  EnergyTerms sum;
-  for (int i = 0; i < count; ++i)
-  {
-    const Status st = singleStep(dt / count);
-    if (!st)
-    {
-      Q = q0;
-      Qdot = qd0;
-      Time = t0;
-      Energy = e0;
-      reconstruct();
-      return st;
-    }
-    const EnergyTerms& l = Energy.lastStep;
-    sum.frictionDissipated += l.frictionDissipated;
-    sum.airDissipated += l.airDissipated;
-    sum.rootWork += l.rootWork;
-    sum.windWork += l.windWork;
-    sum.contactWork += l.contactWork;
-    sum.loadWork += l.loadWork;
-    sum.residual += l.residual;
-  }
-  Energy.lastStep = sum;
-  LastSubsteps = count;
-  return Status::Ok();
-}
-
-Status SuperHelix::singleStep(double h)
+Status SuperHelix::singleStep(double h, double acceptLimit, bool& rejected)
 {
   LastSubsteps = 1;
-  if (!Initialized)
-    return Status::Error("SuperHelix::step: the strand is not initialized; call initialize().");
-  if (!(std::isfinite(h) && h > 0))
+  LastRejected = 0;
+  LastFirstOrder = 0;
+  rejected = false;
+  Status st = checkStep(h);
+  if (!st)
+    return st;
+  Outcome outcome = Outcome::Committed;
+  if (Spec.integrator == Integrator::Midpoint)
   {
-    std::ostringstream s;
-    s << "strand '" << Spec.name << "' (id " << Spec.id << ") at t = " << Time << " s: dt = " << h
-      << " is invalid; the time step must be finite and > 0 seconds "
-      << "(1/30 is stable for every preset).";
-    return Status::Error(s.str());
+    // The second-order step, unless recent attempts were declined (then the next few steps
+    // are semi-implicit without trying: each attempt costs the predicted midpoint's
+    // kinematics and, when declined for energy or a blow-up, a whole solve).
+    if (MidpointSkip > 0)
+      --MidpointSkip;
+    else
+    {
+      st = attemptStep(h, true, acceptLimit, outcome);
+      if (!st)
+        return st;
+      if (outcome != Outcome::Declined)
+      {
+        if (outcome == Outcome::Committed)
+          MidpointBackoff = 0;
+        rejected = outcome == Outcome::Rejected;
+        return st;
+      }
+      MidpointBackoff = std::min(8, 2 * MidpointBackoff + 1);
+      MidpointSkip = MidpointBackoff - 1;
+    }
   }
+  st = attemptStep(h, false, acceptLimit, outcome);
+  rejected = outcome == Outcome::Rejected;
+  if (st && outcome == Outcome::Committed)
+    LastFirstOrder = 1;
+  return st;
+}
+
+Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome)
+{
+  outcome = Outcome::Committed;
   const double t0 = Time, t1 = Time + h;
   if (!CurValid)
     reconstruct();
-  // The contact response in the step workspace is this strand's only until the step ends.
+  // The contact response in the step workspace is this strand's only until the step ends,
+  // and solve() forms this step's system.
   struct EndOfStep
   {
     bool& contactsSet;
-    ~EndOfStep() { contactsSet = false; }
-  } endOfStep{ContactsSet};
-  Status st = evaluateForces(Cur, t0);
+    bool& midpointStep;
+    ~EndOfStep()
+    {
+      contactsSet = false;
+      midpointStep = false;
+    }
+  } endOfStep{ContactsSet, MidpointStep};
+  MidpointStep = midpoint;
+  // Where the step is evaluated: the semi-implicit step at the start (Cur); the midpoint
+  // step at the predicted midpoint q̃ = qⁿ + h/2 q̇ⁿ, t + h/2, with the velocity q̇ⁿ, which
+  // becomes the current state (Q, Time, Cur) while the step is assembled and solved; the
+  // start's kinematics wait in `start` and come back if the step is not committed.
+  thread_local Kinematics start;
+  thread_local Eigen::VectorXd q0;
+  q0 = Q;
+  double tEval = t0;
+  if (midpoint)
+  {
+    std::swap(Cur, start);
+    Q.noalias() = q0 + (0.5 * h) * Qdot;
+    tEval = t0 + 0.5 * h;
+    Time = tEval;
+    kinematics(Q, Qdot, rootState(tEval), tEval, Cur);
+    newCurId();
+    WindsValid = false;
+  }
+  // Every return before the commit goes through here.
+  auto keep = [&](Status s, Outcome o)
+  {
+    outcome = o;
+    if (midpoint)
+    {
+      Q = q0;
+      Time = t0;
+      std::swap(Cur, start);
+      newCurId();
+      WindsValid = false;
+    }
+    return s;
+  };
+  // A midpoint step that fails for any reason but the input is declined: the semi-implicit
+  // step is taken instead (and reports its own error if it fails too).
+  auto fail = [&](const std::string& message)
+  {
+    return midpoint ? keep(Status::Ok(), Outcome::Declined)
+                    : keep(Status::Error(message), Outcome::Committed);
+  };
+  Status st = evaluateForces(Cur, tEval);
   if (!st)
-    return Status::Error(where(t0, t1) + st.message());
+    return keep(Status::Error(where(t0, t1) + st.message()), Outcome::Committed);
+  // The penalty contacts are stiff (√(k/ρS) ≈ 1000 rad/s, 33/dt at 1/30 s): the midpoint
+  // rule leaves such a mode ringing (amplification −0.99 per step) where backward Euler
+  // damps it; a strand touching anything takes the semi-implicit step.
+  if (midpoint && ContactsSet)
+    for (const Node& nd : Cur.nodes)
+      if (nd.hasF || nd.hasK || nd.hasD)
+        return keep(Status::Ok(), Outcome::Declined);
   assemble();
   assembleVelocityJacobian();
   assembleTensionStiffness(h);
   if (!F.allFinite())
-    return Status::Error(where(t0, t1) +
-                         "the generalized forces are not finite; the previous state is kept. "
-                         "Check the root motion and forces.");
+    return keep(Status::Error(where(t0, t1) +
+                              "the generalized forces are not finite; the previous state is kept. "
+                              "Check the root motion and forces."),
+                Outcome::Committed);
   Eigen::VectorXd qdN;
   st = solve(h, qdN);
   if (!st)
-    return Status::Error(where(t0, t1) + st.message() + "; the previous state is kept.");
-  const Eigen::VectorXd qN = Q + h * qdN;
+    return fail(where(t0, t1) + st.message() + "; the previous state is kept.");
+  // The velocity of the step: qⁿ⁺¹ = qⁿ + h q̇_step (semi-implicit: q̇ⁿ⁺¹; midpoint:
+  // (q̇ⁿ + q̇ⁿ⁺¹)/2).
+  const Eigen::VectorXd qdStep = midpoint ? Eigen::VectorXd(0.5 * (Qdot + qdN)) : qdN;
+  const Eigen::VectorXd qN = q0 + h * qdStep;
   if (!qN.allFinite() || !qdN.allFinite())
-    return Status::Error(
-        where(t0, t1) +
-        "the step blew up (non-finite curvature); the previous state is kept. Reduce dt or "
-        "check the forces.");
+    return fail(where(t0, t1) +
+                "the step blew up (non-finite curvature); the previous state is kept. Reduce dt or "
+                "check the forces.");
   // A fibre cannot bend tighter than its own radius: past that the model is meaningless.
   const double limit = 1.0 / Spec.hair.radius;
   for (int e = 0; e < elementCount(); ++e)
@@ -192,39 +273,54 @@ Status SuperHelix::singleStep(double h)
       s << where(t0, t1) << "the step blew up: element " << e << " reached curvature " << om
         << " 1/m, tighter than 1/radius = " << limit
         << " 1/m; the previous state is kept. Reduce dt or check the forces.";
-      return Status::Error(s.str());
+      return fail(s.str());
     }
   }
   const RootState rootN = rootState(t1);
   st = rootN.validate();
   if (!st)
-    return Status::Error(where(t0, t1) + st.message());
+    return keep(Status::Error(where(t0, t1) + st.message()), Outcome::Committed);
 
-  // Energy flows over the step, at the configuration of tⁿ with the velocity of the step
-  // ṽ = v0 + J q̇ⁿ⁺¹ and the acceleration r̈ = a0 + J q̈, q̈ = (q̇ⁿ⁺¹ − q̇ⁿ)/h.
+  // Energy flows over the step, at the configuration where the step was evaluated (Cur) with
+  // the velocity of the step ṽ = v0 + J q̇_step. The semi-implicit step: at tⁿ, with the
+  // acceleration r̈ = a0 + J q̈, q̈ = (q̇ⁿ⁺¹ − q̇ⁿ)/h. The midpoint step: at the predicted
+  // midpoint, a midpoint quadrature of each flow's power (second order, like the step); its
+  // root work is written without a0, which the midpoint velocity would need (below).
+  // The error estimate: the element ends' displacement by δq = h/2 (q̇ⁿ⁺¹ − q̇ⁿ), the first-
+  // minus the second-order position update, through the tail Jacobians (J_P(s) = A_P × r(s)
+  // + W_P past element P).
   EnergyTerms flow;
+  double error = 0;
   {
     const Eigen::VectorXd qdd = (qdN - Qdot) / h;
     const double nu = Spec.hair.airFriction;
     const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
     const ContactResponse* const contacts =
         ContactsSet ? detail::stepWorkspace().ContactBuffer.data() : nullptr;
+    const RootState& root = Cur.root;
+    // The midpoint's root work: ∫ ρS r̈ · v₀ ds = d/dt ∫ ρS ṙ · v₀ ds − ∫ ρS ṙ · v̇₀ ds, and
+    // following a material point v̇₀ = a_c + α_c × (r − r_c) + ω_c × (ṙ − v_c), of which
+    // ṙ · (ω_c × ṙ) = 0: the first term is the change of Kinematics::carried over the step,
+    // the second a midpoint quadrature.
+    const Eigen::Vector3d carriedAcc =
+        root.acceleration - root.angularVelocity.cross(root.velocity);
     Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
     Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sw = Eigen::Vector3d::Zero();
+    Eigen::Vector3d da = Eigen::Vector3d::Zero(), dw = Eigen::Vector3d::Zero();
     for (int e = 0; e < elementCount(); ++e)
     {
       const Element& el = Cur.elements[e];
-      const Eigen::Vector3d x = qdN.segment<3>(3 * e), y = qdd.segment<3>(3 * e);
+      const Eigen::Vector3d x = qdStep.segment<3>(3 * e), y = qdd.segment<3>(3 * e);
       for (int j = el.first; j < el.first + el.count; ++j)
       {
         const Node& nd = Cur.nodes[j];
         const Eigen::Vector3d vt = nd.v0 + pa.cross(nd.r) + pw + nd.J * x;
-        const Eigen::Vector3d rdd = nd.a0 + sa.cross(nd.r) + sw + nd.J * y;
         const Eigen::Vector3d& wind = winds ? winds[j] : Spec.wind;
         const Eigen::Vector3d rel = vt - wind;
         flow.airDissipated += h * nd.w * nu * rel.squaredNorm();
         flow.windWork -= h * nd.w * nu * rel.dot(wind);
         // The contact force that acted: its implicit linearization (see ContactResponse).
+        // (A midpoint step has none: a strand in contact takes the semi-implicit step.)
         Eigen::Vector3d fc = Eigen::Vector3d::Zero();
         if (contacts)
         {
@@ -237,12 +333,27 @@ Status SuperHelix::singleStep(double h)
         }
         flow.contactWork += h * nd.w * fc.dot(vt);
         const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
-        flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
+        if (midpoint)
+        {
+          const Eigen::Vector3d vdot0 =
+              carriedAcc + root.angularAcceleration.cross(nd.r - root.position);
+          flow.rootWork -= h * nd.w * (RhoS * vt.dot(vdot0) + f.dot(nd.v0));
+        }
+        else
+        {
+          const Eigen::Vector3d rdd = nd.a0 + sa.cross(nd.r) + sw + nd.J * y;
+          flow.rootWork += h * nd.w * (RhoS * rdd - f).dot(nd.v0);
+        }
       }
       pa += el.A * x;
       pw += el.W * x;
       sa += el.A * y;
       sw += el.W * y;
+      const Eigen::Vector3d dq = (0.5 * h) * (qdN.segment<3>(3 * e) - Qdot.segment<3>(3 * e));
+      da += el.A * dq;
+      dw += el.W * dq;
+      const Eigen::Vector3d& end = e + 1 < elementCount() ? Cur.elements[e + 1].r0 : Cur.tip.r0;
+      error = std::max(error, (da.cross(end) + dw).norm());
     }
     if (!Spec.tipForce.isZero(0))
     {
@@ -252,21 +363,37 @@ Status SuperHelix::singleStep(double h)
       flow.loadWork += h * Spec.tipForce.dot(v0t + pa.cross(rt) + pw);
       flow.rootWork -= h * Spec.tipForce.dot(v0t);
     }
-    flow.frictionDissipated = h * (Gdiag.array() * qdN.array().square()).sum();
+    flow.frictionDissipated = h * (Gdiag.array() * qdStep.array().square()).sum();
   }
+  LastError = error;
+  if (error > acceptLimit)
+    return keep(Status::Ok(), Outcome::Rejected);
 
   // The new state's kinematics go to a per-thread buffer that is swapped with Cur on
   // commit, so each strand keeps one set of samples (not two): with hundreds of strands
   // stepped in turn, the strand's data streamed through the caches is what a step costs.
   thread_local Kinematics next;
   kinematics(qN, qdN, rootN, t1, next);
+  if (midpoint) // the change of ∫ ρS ṙ · v₀ over the step (see above)
+    flow.rootWork += next.carried - start.carried;
   const double elastic = elasticEnergy(qN);
   const double e0 = Energy.mechanical();
   const double e1 = next.kinetic + elastic + next.gravitational;
   if (!std::isfinite(e1))
-    return Status::Error(where(t0, t1) + "the energy is not finite; the previous state is kept.");
+    return fail(where(t0, t1) + "the energy is not finite; the previous state is kept.");
   flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork - flow.loadWork +
                   flow.frictionDissipated + flow.airDissipated;
+  // The energy guard of the second-order step (EnergyGuard): the midpoint rule is not
+  // dissipative, and where the step does not resolve the motion (a whip, the 3 Hz shake at
+  // 1/30 s) its linearization can create energy without bound; such a step is declined.
+  if (midpoint)
+  {
+    const double moved = Energy.kinetic + next.kinetic + std::abs(flow.rootWork) +
+                         std::abs(flow.windWork) + std::abs(flow.contactWork) +
+                         std::abs(flow.loadWork) + flow.frictionDissipated + flow.airDissipated;
+    if (flow.residual > EnergyGuard * moved)
+      return keep(Status::Ok(), Outcome::Declined);
+  }
 
   // Commit.
   Q = qN;
@@ -303,6 +430,7 @@ Status SuperHelix::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdo
     return Status::Error("strand '" + Spec.name + "': setState got non-finite q or qdot.");
   Q = q;
   Qdot = qdot;
+  MidpointSkip = MidpointBackoff = 0;
   reconstruct();
   Energy.time = Time;
   Energy.kinetic = Cur.kinetic;
@@ -311,61 +439,81 @@ Status SuperHelix::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdo
   return Status::Ok();
 }
 
-Status SuperHelix::advance(double dt, double tolerance, int maxDepth)
+Status SuperHelix::advance(double dt, double tolerance)
 {
   if (!(tolerance > 0))
     return step(dt);
   Status st = checkStep(dt);
   if (!st)
     return st;
-  // Step doubling: n sub-steps against 2n, on every element end, doubling n until they
-  // agree within `tolerance`; the finer result is kept.
-  int n = 1;
+  // Sub-steps h controlled by the step's embedded error estimate e(h) (lastErrorEstimate):
+  // accepted when e <= tolerance · h / dt, so that the accepted estimates add up to at most
+  // `tolerance` over dt. e is the first-order update's local error, O(h²), so the ratio
+  // r = e / (tolerance · h / dt) is O(h) and the next sub-step is h · 0.9 / r (at most
+  // doubled, at least a fifth). The sub-step carries over to the next advance().
   const Eigen::VectorXd q0 = Q, qd0 = Qdot;
   const double t0 = Time;
   const EnergyReport en0 = Energy;
-  auto restore = [&]()
+  const double hMin = dt / MaxSubsteps;
+  double h = NextSubstep > 0 ? std::min(NextSubstep, dt) : dt;
+  double remaining = dt, errorSum = 0;
+  int accepted = 0, rejectedCount = 0, firstOrder = 0;
+  EnergyTerms sum;
+  while (remaining > 1e-12 * dt)
   {
-    Q = q0;
-    Qdot = qd0;
-    Time = t0;
-    Energy = en0;
-    reconstruct();
-  };
-  auto ends = [&]()
-  {
-    std::vector<Eigen::Vector3d> e;
-    for (const Element& el : Cur.elements)
-      e.push_back(el.r0);
-    e.push_back(Cur.tip.r0);
-    return e;
-  };
-  Status prev = stepCount(dt, n);
-  std::vector<Eigen::Vector3d> prevEnds;
-  if (prev)
-    prevEnds = ends();
-  for (int depth = 0; depth < maxDepth && 2 * n <= MaxSubsteps; ++depth)
-  {
-    restore();
-    n *= 2;
-    st = stepCount(dt, n);
-    if (st && prev)
+    // The last sub-steps of the interval: one that reaches its end, or two equal ones
+    // rather than a long one followed by a sliver.
+    double hs = std::max(h, hMin);
+    if (hs >= remaining * (1 - 1e-9))
+      hs = remaining;
+    else if (hs > 0.5 * remaining)
+      hs = 0.5 * remaining;
+    // At the smallest sub-step (or when the sub-steps would run out) accept whatever the
+    // estimate: the sum reported says how far it is from the tolerance.
+    const bool last = hs <= hMin * (1 + 1e-9) || accepted + rejectedCount >= 4 * MaxSubsteps;
+    const double allowed = tolerance * hs / dt;
+    bool rejected = false;
+    st = singleStep(hs, last ? std::numeric_limits<double>::infinity() : allowed, rejected);
+    if (!st)
     {
-      const std::vector<Eigen::Vector3d> e = ends();
-      double err = 0;
-      for (size_t i = 0; i < e.size(); ++i)
-        err = std::max(err, (e[i] - prevEnds[i]).norm());
-      if (err <= tolerance)
-        return Status::Ok();
-      prevEnds = e;
+      Q = q0;
+      Qdot = qd0;
+      Time = t0;
+      Energy = en0;
+      reconstruct();
+      return st;
     }
-    else if (st)
-      prevEnds = ends();
-    prev = st;
+    const double ratio = LastError / allowed;
+    const double grow = ratio > 0 ? 0.9 / ratio : 2.0;
+    if (rejected)
+    {
+      ++rejectedCount;
+      h = hs * std::max(0.2, std::min(0.9, grow));
+      continue;
+    }
+    ++accepted;
+    firstOrder += LastFirstOrder;
+    errorSum += LastError;
+    remaining -= hs;
+    const EnergyTerms& l = Energy.lastStep;
+    sum.frictionDissipated += l.frictionDissipated;
+    sum.airDissipated += l.airDissipated;
+    sum.rootWork += l.rootWork;
+    sum.windWork += l.windWork;
+    sum.contactWork += l.contactWork;
+    sum.loadWork += l.loadWork;
+    sum.residual += l.residual;
+    // The next sub-step from this one's ratio; one shortened only to land on the interval's
+    // end does not hold back the next (at most twice the longer of the two).
+    h = std::max(0.2 * hs, std::min(hs * grow, 2 * std::max(h, hs)));
   }
-  if (!st)
-    restore();
-  return st;
+  NextSubstep = std::min(h, dt);
+  Energy.lastStep = sum;
+  LastSubsteps = accepted;
+  LastRejected = rejectedCount;
+  LastFirstOrder = firstOrder;
+  LastError = errorSum;
+  return Status::Ok();
 }
 
 } // namespace hair

@@ -13,20 +13,40 @@ namespace hair::detail
 HAIR_AVX2_CLONES
 bool formStepSystem(double* __restrict lhs, double* __restrict rhs, const double* __restrict M,
                     const double* __restrict C, const double* __restrict Kt,
-                    const double* __restrict qd, int m, double a, double b, double c)
+                    const double* __restrict qd, int m, double a, double b, double c,
+                    const double* __restrict u, double cr)
 {
   double check = 0;
+  if (!u) // the semi-implicit step: rhs += (M − b C) q̇
+  {
+    for (int j = 0; j < m; ++j)
+    {
+      const double q = qd[j];
+      const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
+      double colCheck = 0;
+      for (int i = 0; i < m; ++i)
+      {
+        const double mij = M[o + i], cij = C[o + i];
+        const double l = a * mij - b * cij + c * Kt[o + i];
+        lhs[o + i] = l;
+        rhs[i] += (mij - b * cij) * q;
+        colCheck += l - l;
+      }
+      check += colCheck;
+    }
+    return check == 0;
+  }
   for (int j = 0; j < m; ++j)
   {
-    const double q = qd[j];
+    const double q = qd[j], uj = u[j];
     const Eigen::Index o = static_cast<Eigen::Index>(j) * m;
     double colCheck = 0;
     for (int i = 0; i < m; ++i)
     {
-      const double mij = M[o + i], cij = C[o + i];
-      const double l = a * mij - b * cij + c * Kt[o + i];
+      const double mij = M[o + i], cij = C[o + i], kij = Kt[o + i];
+      const double l = a * mij - b * cij + c * kij;
       lhs[o + i] = l;
-      rhs[i] += (mij - b * cij) * q;
+      rhs[i] += mij * uj + (cr * kij - b * cij) * q;
       colCheck += l - l;
     }
     check += colCheck;

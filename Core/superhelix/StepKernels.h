@@ -11,13 +11,16 @@
 namespace hair::detail
 {
 
-// The step's matrix a M − b C + c K_T and rhs += (M − b C) q̇, column by column (m × m,
-// column-major): one pass over the three matrices instead of three. Returns whether every
-// entry of the matrix is finite (x − x is 0 for finite x and NaN otherwise; a, b > 0, so a
+// The step's matrix a M − b C + c K_T and its right-hand side, column by column (m × m,
+// column-major): one pass over the three matrices instead of three. With u null (the
+// semi-implicit step) rhs += (M − b C) q̇, else rhs += M u + (c_r K_T − b C) q̇ (the
+// generalized-α step: u carries the mass matrix's own vector). Returns whether every entry of
+// the matrix is finite (x − x is 0 for finite x and NaN otherwise; a, b, c > 0, so a
 // non-finite entry of M, C or K_T leaves one in the matrix).
 bool formStepSystem(double* __restrict lhs, double* __restrict rhs, const double* __restrict M,
                     const double* __restrict C, const double* __restrict Kt,
-                    const double* __restrict qd, int m, double a, double b, double c);
+                    const double* __restrict qd, int m, double a, double b, double c,
+                    const double* __restrict u, double cr);
 
 // dst(r, c) = Σ_{j < K} src(r, j) z(j, c) for r < rows and c < 3, column-major (src with
 // leading dimension lds, z K × 3 contiguous, dst with leading dimension ldd); with Mirror,

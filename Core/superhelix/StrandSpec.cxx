@@ -9,6 +9,18 @@
 namespace hair
 {
 
+const char* toString(Integrator integrator)
+{
+  switch (integrator)
+  {
+  case Integrator::SemiImplicit:
+    return "semi-implicit";
+  case Integrator::Midpoint:
+    return "midpoint";
+  }
+  return "unknown";
+}
+
 StrandSpec StrandSpec::uniform(double length, int elements, const HairParameters& hair)
 {
   StrandSpec s;
@@ -58,6 +70,10 @@ Status StrandSpec::validate() const
       << " is the accuracy of a fixed rule of four points per π/2 of turning.";
     return Status::Error(s.str());
   }
+  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
+    return Status::Error(who + "integrator = " + std::to_string(static_cast<int>(integrator)) +
+                         " is not a time step; give 0 (semi-implicit, the paper's) or 1 "
+                         "(midpoint, second order).");
   if (quadraturePoints != 0 && (quadraturePoints < 3 || quadraturePoints > MaxGaussPoints))
     return Status::Error(
         who + "quadraturePoints = " + std::to_string(quadraturePoints) +

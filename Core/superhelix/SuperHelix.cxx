@@ -120,6 +120,8 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Energy = EnergyReport{};
   F.resize(3 * n);
   Initialized = true;
+  MidpointSkip = MidpointBackoff = 0;
+  NextSubstep = 0;
   kinematics(Q, Qdot, root, Time, Cur);
   newCurId();
   CurValid = true;

@@ -17,11 +17,27 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace hair
 {
+
+/// The time step of a strand (docs/super-helix.md, "The time step"). Both take one linear
+/// solve per step with the same M, C = ∂f/∂q̇, K_T and contact terms.
+enum class Integrator
+{
+  /// [B06] §3.4: linearly implicit, first order; backward Euler in the elastic, friction,
+  /// drag, tension and contact terms, the velocity terms half implicit. Dissipates energy
+  /// at O(dt).
+  SemiImplicit = 0,
+  /// The implicit midpoint rule linearized once about the predicted midpoint
+  /// (q + dt/2 q̇, t + dt/2): second order; energy-neutral for the linear parts.
+  Midpoint = 1
+};
+/// "semi-implicit", "midpoint" (state files, messages).
+const char* toString(Integrator integrator);
 
 /// Everything that defines a strand before it moves.
 struct StrandSpec
@@ -59,6 +75,8 @@ struct StrandSpec
   /// (curly), 11.5 against 10.6 (fuzzy). The tests set it to 1 (every element from the Gram
   /// matrix) and to a large value (none) to compare both ways.
   int gramMinSamples = 12;
+  /// The time step (Integrator): the paper's semi-implicit step by default.
+  Integrator integrator = Integrator::SemiImplicit;
 
   /// A strand of `elements` equal elements of total length `length`.
   static StrandSpec uniform(double length, int elements, const HairParameters& hair);
@@ -99,17 +117,20 @@ public:
   /// natural shape at `time`. On error the strand is left as it was.
   Status initialize(const StrandSpec& spec, double time = 0);
 
-  /// One step of size dt [s], without sub-steps (linearly implicit in the elastic,
-  /// friction, drag and tension forces and in the velocity-dependent forces; see
-  /// docs/super-helix.md; dt = 1/30 s is stable). On error (bad dt, a root or force
-  /// callback returning non-finite values, a step that blows up) the state is unchanged
-  /// and the message names the strand and the time.
+  /// One step of size dt [s] of StrandSpec::integrator, without sub-steps (linearly
+  /// implicit in the elastic, friction, drag and tension forces and in the
+  /// velocity-dependent forces; see docs/super-helix.md; dt = 1/30 s is stable). On error
+  /// (bad dt, a root or force callback returning non-finite values, a step that blows up)
+  /// the state is unchanged and the message names the strand and the time.
   Status step(double dt);
 
-  /// Advances by dt; with tolerance > 0 [m], sub-steps (step doubling: n sub-steps
-  /// against 2n, n doubling) until both agree on every element end within `tolerance`,
-  /// at most maxDepth doublings. With tolerance <= 0 it is step(dt).
-  Status advance(double dt, double tolerance, int maxDepth = 8);
+  /// Advances by dt. With tolerance > 0 [m], in sub-steps whose sizes are controlled by the
+  /// step's embedded error estimate (lastErrorEstimate()): each sub-step h is accepted when
+  /// its estimate is at most tolerance · h / dt, so that the estimates of the sub-steps
+  /// taken add up to at most `tolerance` over dt; a rejected sub-step is taken again
+  /// smaller. At most MaxSubsteps sub-steps: the last ones are then accepted whatever
+  /// their estimate (lastErrorEstimate() shows it). With tolerance <= 0 it is step(dt).
+  Status advance(double dt, double tolerance);
 
   /// Replaces q and q̇ (sizes 3N, finite). Energies are recomputed; totals are kept.
   Status setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdot);
@@ -150,8 +171,10 @@ public:
   void reconstruct();              ///< kinematics and the air's velocity at every sample (time())
   void assemble();                 ///< M and the explicit generalized force f
   void assembleVelocityJacobian(); ///< C = ∂f/∂q̇ (after assemble)
-  void assembleTensionStiffness(double h);            ///< K_T for a step h (after assemble)
-  Status solve(double dt, Eigen::VectorXd& qdotNext); ///< the linear system of the step
+  void assembleTensionStiffness(double h); ///< K_T for a step h (after assemble)
+  /// The linear system of the step (outside a step the semi-implicit one; while the
+  /// second-order step is taken, its own at the predicted midpoint).
+  Status solve(double dt, Eigen::VectorXd& qdotNext);
   const Eigen::MatrixXd& massMatrix() const;
   const Eigen::VectorXd& generalizedForce() const { return F; }
   const Eigen::MatrixXd& velocityJacobian() const;
@@ -161,6 +184,20 @@ public:
   /// Sub-steps the last step or advance took: 1 for step(), more only when advance() was
   /// asked for accuracy.
   int lastSubsteps() const { return LastSubsteps; }
+  /// Sub-steps the last advance() computed and rejected (their cost is in no state).
+  int lastRejected() const { return LastRejected; }
+  /// Of lastSubsteps(), those taken by the first-order semi-implicit step: all of them with
+  /// Integrator::SemiImplicit; with Integrator::Midpoint, those where the second-order step
+  /// was declined (it would have created energy, blew up, or the strand touched a contact;
+  /// docs/super-helix.md, "The second-order step").
+  int lastFirstOrder() const { return LastFirstOrder; }
+  /// The last step's (or advance's, summed over its sub-steps) estimate of its error [m]:
+  /// the largest distance, over the element ends, between the positions of the step's
+  /// first-order update q + h q̇ⁿ⁺¹ and its midpoint update q + h (q̇ⁿ + q̇ⁿ⁺¹)/2,
+  /// h |J (q̇ⁿ⁺¹ − q̇ⁿ)| / 2 with the Jacobian where the step was evaluated. It is the
+  /// leading local error of the semi-implicit step, and a bound far above that of the
+  /// midpoint step (docs/super-helix.md, "Accuracy on request").
+  double lastErrorEstimate() const { return LastError; }
 
   /// Asks the CPU to start loading this strand's samples into cache (no effect on results);
   /// stepStrands calls it for the next strand while it steps one.
@@ -204,14 +241,30 @@ private:
     std::vector<Node> nodes;
     Element tip; // frame and point at s = L
     double kinetic = 0, gravitational = 0;
+    double carried = 0; // ∫ ρS ṙ · v₀ ds, v₀ the root-carried velocity (the midpoint's root work)
   };
 
   void kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const RootState& root,
                   double time, Kinematics& out) const;
   int locate(double s, double& u) const;
   Status evaluateForces(Kinematics& k, double time);
-  Status singleStep(double h);
-  Status stepCount(double dt, int count);
+  // One step of h: Integrator::Midpoint's guarded second-order step or the semi-implicit
+  // one. With acceptLimit finite, a step whose error estimate exceeds it is not committed:
+  // `rejected` is set and the state is unchanged (the estimate in LastError).
+  Status singleStep(double h, double acceptLimit, bool& rejected);
+  Status singleStep(double h)
+  {
+    bool rejected = false;
+    return singleStep(h, std::numeric_limits<double>::infinity(), rejected);
+  }
+  // Why a step attempt was not committed.
+  enum class Outcome
+  {
+    Committed,
+    Rejected, // its error estimate is above acceptLimit (advance() takes a smaller one)
+    Declined  // the midpoint step would create energy, blew up or met a contact
+  };
+  Status attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome);
   Status checkStep(double dt) const;
   double elasticEnergy(const Eigen::VectorXd& q) const;
   std::string where(double t0, double t1) const;
@@ -227,6 +280,15 @@ private:
   ContactForces Contacts;
   bool Initialized = false;
   int LastSubsteps = 1;
+  int LastRejected = 0;
+  int LastFirstOrder = 0;
+  double LastError = 0;
+  // Integrator::Midpoint: after a declined midpoint step the next MidpointSkip steps are
+  // taken semi-implicit without trying (MidpointBackoff doubles, up to 8, while attempts
+  // keep being declined, and is reset by an accepted one).
+  int MidpointSkip = 0, MidpointBackoff = 0;
+  // advance(): the sub-step the controller would take next (0: none yet; dt at most).
+  double NextSubstep = 0;
 
   Kinematics Cur;
   bool CurValid = false;
@@ -246,6 +308,9 @@ private:
   std::uint64_t CurId = 0;
   void newCurId();
   void addContactJacobians(double h); // implicit contact terms into the step's Lhs and Rhs
+  // The system solve() forms: the midpoint step's while one is being taken, else the
+  // semi-implicit step's.
+  bool MidpointStep = false;
 };
 
 /// Steps every strand by dt on `threads` threads (common/Parallel.h; 1: the calling thread

@@ -25,6 +25,20 @@ Status SuperHelixOptions::validate() const
       << QuadratureChooser::MaxTolerance << " is the fastest.";
     return Status::Error(s.str());
   }
+  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
+  {
+    return Status::Error("the integrator " + std::to_string(static_cast<int>(integrator)) +
+                         " is not a time step: give 0 (semi-implicit, the paper's) or 1 "
+                         "(second order, midpoint).");
+  }
+  if (!(std::isfinite(tolerance) && tolerance >= 0))
+  {
+    std::ostringstream s;
+    s << "the tolerance " << tolerance
+      << " m/s is not a distance per second >= 0; give 0 for fixed steps or the error the "
+         "steps may add per second of simulated time, e.g. 5e-3.";
+    return Status::Error(s.str());
+  }
   if (pointsPerElement < 1)
   {
     return Status::Error("at least one display point per element is needed.");
@@ -108,6 +122,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
       spec.windField = World.air.field();
     }
     spec.quadratureTolerance = Options.quadratureTolerance;
+    spec.integrator = Options.integrator;
     spec.root = World.rootMotion.carriedRoot(g.root, g.rootFrame());
     if (Status s = Helices[k].initialize(spec, 0.0); !s)
     {
@@ -163,6 +178,8 @@ Status SuperHelixModel::advanceTo(double target)
     }
     return Status::Ok();
   };
+  Substeps = Rejected = FirstOrder = 0;
+  FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
     // Hair–hair: a search before each step; when pairs close fast, the step is cut into
@@ -185,13 +202,42 @@ Status SuperHelixModel::advanceTo(double target)
           return s;
         }
       }
-      if (Status s = stepStrands(Helices, dt / pieces, Run.threads); !s)
+      // The tolerance is per second of simulated time: each piece of a step gets its share.
+      const double tolerance = Options.tolerance * (dt / pieces);
+      if (Status s = stepStrands(Helices, dt / pieces, Run.threads, tolerance); !s)
       {
         return s;
       }
+      tally();
     }
   }
   return Status::Ok();
+}
+
+void SuperHelixModel::tally()
+{
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    const SuperHelix& h = Helices[k];
+    Substeps += h.lastSubsteps();
+    Rejected += h.lastRejected();
+    FirstOrder += h.lastFirstOrder();
+    FrameError[k] += h.lastErrorEstimate();
+  }
+}
+
+std::map<std::string, double> SuperHelixModel::stepStatistics() const
+{
+  const double strands = std::max<std::size_t>(1, Helices.size());
+  double error = 0;
+  for (double e : FrameError)
+  {
+    error = std::max(error, e);
+  }
+  return {{"substeps", Substeps / strands},
+          {"rejected_substeps", Rejected / strands},
+          {"first_order_share", Substeps > 0 ? FirstOrder / Substeps : 0.0},
+          {"error_estimate", error}};
 }
 
 void SuperHelixModel::describe(StateHeader& header) const
@@ -210,6 +256,8 @@ void SuperHelixModel::describe(StateHeader& header) const
   auto& at = header.attributes;
   at["points_per_element"] = Options.pointsPerElement;
   at["quadrature_tolerance"] = Options.quadratureTolerance;
+  at["integrator"] = static_cast<int>(Options.integrator);
+  at["tolerance"] = Options.tolerance;
   const BodyContactParameters& c = Options.contacts;
   at["contacts"] = c.enabled ? 1 : 0;
   at["contact_stiffness"] = c.stiffness;

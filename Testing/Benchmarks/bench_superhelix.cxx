@@ -14,6 +14,13 @@
 //                            q from a tight rule (1e-12), q_dev, next to the time step's
 //                            own error at 1/30 s (from 1/480 s), dt_dev, both relative to
 //                            max |q|: what a looser rule buys and what it costs
+//   BM_IntegratorSideBySide/<p>/<m>  one step(1/30 s) at N = 10 of the semi-implicit and of the
+//                            second-order (midpoint) step, from the same states, interleaved
+//                            in blocks of 10 steps; m = 0: the 3 Hz ±30° shake of BM_Step,
+//                            m = 1: the demo's gentler shake, ±0.5 rad at 1 Hz; counters:
+//                            µs per step of each (the least time for the same 30 steps),
+//                            their ratio, and the share of the midpoint's steps taken first
+//                            order (declined, or skipped after a declined one)
 //   BM_GramSideBySide/<p>    the velocity Jacobian C and the whole step (N = 10) with the
 //                            element moments summed per sample and from the Gram matrix
 //                            (StrandSpec::gramMinSamples above any count, and 1), the two
@@ -284,6 +291,72 @@ void BM_GramSideBySide(benchmark::State& state)
   state.counters["samples_per_element"] = double(h.samples().size()) / 10;
 }
 
+void BM_IntegratorSideBySide(benchmark::State& state)
+{
+  const HairType type = static_cast<HairType>(state.range(0));
+  StrandSpec spec = shakenStrand(type, 10);
+  if (state.range(1) == 1)
+  {
+    HeadShake gentle;
+    gentle.amplitude = 0.5;
+    gentle.frequency = 1.0;
+    gentle.attachment = Eigen::Vector3d(0.1, 0, 0);
+    gentle.attachmentFrame.col(0) = Eigen::Vector3d(0, -1, 0);
+    gentle.attachmentFrame.col(1) = Eigen::Vector3d(1, 0, 0);
+    gentle.attachmentFrame.col(2) = Eigen::Vector3d(0, 0, 1);
+    spec.root = gentle;
+  }
+  // 1 s into the motion with the semi-implicit step; then 30 steps (1 s … 2 s) of each
+  // integrator from that state, in blocks of 10, over and over.
+  SuperHelix warm;
+  (void)warm.initialize(spec);
+  for (int i = 0; i < 30; ++i)
+    (void)warm.step(1.0 / 30);
+  SuperHelix start[2];
+  for (int way = 0; way < 2; ++way)
+  {
+    StrandSpec s = spec;
+    s.integrator = way == 0 ? Integrator::SemiImplicit : Integrator::Midpoint;
+    (void)start[way].initialize(s, warm.time());
+    (void)start[way].setState(warm.q(), warm.qdot());
+  }
+  using Clock = std::chrono::steady_clock;
+  // Per iteration the same 30 steps of each, in interleaved blocks of 10; the figure of an
+  // integrator is its least time for the 30 over the iterations (a block-wise minimum would
+  // favour the midpoint's blocks that skip the attempt after a declined step).
+  double best[2] = {1e30, 1e30};
+  long steps = 0, firstOrder = 0;
+  for (auto _ : state)
+  {
+    double cycle[2] = {0, 0};
+    SuperHelix h[2] = {start[0], start[1]};
+    for (int block = 0; block < 3; ++block)
+      for (int way = 0; way < 2; ++way)
+      {
+        int declined = 0;
+        const auto t0 = Clock::now();
+        for (int i = 0; i < 10; ++i)
+        {
+          (void)h[way].step(1.0 / 30);
+          declined += h[way].lastFirstOrder();
+        }
+        cycle[way] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+        if (way == 1)
+        {
+          steps += 10;
+          firstOrder += declined;
+        }
+      }
+    for (int way = 0; way < 2; ++way)
+      best[way] = std::min(best[way], cycle[way] / 30);
+  }
+  state.counters["semi_implicit_us"] = best[0];
+  state.counters["midpoint_us"] = best[1];
+  state.counters["ratio"] = best[1] / best[0];
+  state.counters["midpoint_first_order"] = double(firstOrder) / std::max(1L, steps);
+  state.SetLabel(toString(type));
+}
+
 void stepArgs(benchmark::internal::Benchmark* b)
 {
   for (int type : {0, 1, 2, 3})
@@ -309,6 +382,9 @@ BENCHMARK(BM_StepTolerance)
     ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2, 3}})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_GramSideBySide)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IntegratorSideBySide)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StrandsPerSecond)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_RealTimeGuides)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -184,7 +184,7 @@ struct DropResult
 
 /// A strand of length L, clamped horizontally (+x) 10 mm above the top of a sphere of
 /// radius R, falls onto it and drapes; `seconds` at dt = 1/30 s.
-DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
+DropResult dropOnSphere(const BodyContactParameters& prm, double seconds, Integrator integrator)
 {
   const double R = 0.08, L = 0.2;
   const Eigen::Vector3d centre(0, 0, 0);
@@ -198,6 +198,7 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
   StrandSpec s = StrandSpec::uniform(L, 10, HairParameters::roundStraight());
+  s.integrator = integrator;
   s.root = [R](double)
   {
     RootState r;
@@ -244,30 +245,34 @@ DropResult dropOnSphere(const BodyContactParameters& prm, double seconds)
 
 TEST(SuperHelixBodyContacts, StrandDroppedOnASphereRestsOutside)
 {
-  for (double mu : {0.0, 0.3})
-  {
-    BodyContactParameters prm;
-    prm.friction = mu;
-    const DropResult r = dropOnSphere(prm, 6.0);
-    SCOPED_TRACE(mu);
-    std::printf("sphere, mu = %.1f: max speed %.3g m/s, table depth %.3g m, exact depth %.3g m "
-                "(thickness %.3g m, lambda/k <= %.3g m)\n",
-                mu, r.speed, r.tableDepth, r.exactDepth, prm.thickness,
-                r.lambdaBound / prm.stiffness);
-    // At the samples the table sees the clump's layer sink by λ/k at most.
-    EXPECT_LE(r.tableDepth, r.lambdaBound / prm.stiffness - prm.thickness);
-    // The exact sphere: add the table's radius error (1.4e-3 R at 40 × 40,
-    // docs/collision-tables.md; twice that for the offset's direction) and the chord gap.
-    const double tableError = 2 * 1.4e-3 * 0.08;
-    EXPECT_LE(r.exactDepth,
-              r.lambdaBound / prm.stiffness - prm.thickness + tableError + r.curvatureGap);
-    // At rest: a sample held by regularized friction creeps at ε r/√(1 − r²) for a
-    // tangential load r μ λ; below r = 0.95, at most 3 ε. Without friction the strand slides
-    // to its equilibrium and the last swing decays (air, internal friction, contact damping).
-    EXPECT_LT(r.speed, 3 * prm.slipVelocity);
-    // Outside the exact sphere, by the margin the thickness leaves.
-    EXPECT_LT(r.exactDepth, 0.0);
-  }
+  // Both time steps (the second-order one falls freely at second order and takes the
+  // semi-implicit step once the strand touches: its bounds are the same).
+  for (Integrator integrator : {Integrator::SemiImplicit, Integrator::Midpoint})
+    for (double mu : {0.0, 0.3})
+    {
+      BodyContactParameters prm;
+      prm.friction = mu;
+      const DropResult r = dropOnSphere(prm, 6.0, integrator);
+      SCOPED_TRACE(mu);
+      SCOPED_TRACE(toString(integrator));
+      std::printf("sphere, %s, mu = %.1f: max speed %.3g m/s, table depth %.3g m, exact depth "
+                  "%.3g m (thickness %.3g m, lambda/k <= %.3g m)\n",
+                  toString(integrator), mu, r.speed, r.tableDepth, r.exactDepth, prm.thickness,
+                  r.lambdaBound / prm.stiffness);
+      // At the samples the table sees the clump's layer sink by λ/k at most.
+      EXPECT_LE(r.tableDepth, r.lambdaBound / prm.stiffness - prm.thickness);
+      // The exact sphere: add the table's radius error (1.4e-3 R at 40 × 40,
+      // docs/collision-tables.md; twice that for the offset's direction) and the chord gap.
+      const double tableError = 2 * 1.4e-3 * 0.08;
+      EXPECT_LE(r.exactDepth,
+                r.lambdaBound / prm.stiffness - prm.thickness + tableError + r.curvatureGap);
+      // At rest: a sample held by regularized friction creeps at ε r/√(1 − r²) for a
+      // tangential load r μ λ; below r = 0.95, at most 3 ε. Without friction the strand slides
+      // to its equilibrium and the last swing decays (air, internal friction, contact damping).
+      EXPECT_LT(r.speed, 3 * prm.slipVelocity);
+      // Outside the exact sphere, by the margin the thickness leaves.
+      EXPECT_LT(r.exactDepth, 0.0);
+    }
 }
 
 namespace
@@ -656,36 +661,39 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
   // The guide of the sphere test, through the scene driver: with contacts it rests outside
   // (contact_depth, the depth into the table, is 0 everywhere), without them it falls
   // through the sphere.
-  for (bool enabled : {true, false})
-  {
-    SimulationOptions o;
-    o.superHelix.contacts.enabled = enabled;
-    Simulation sim;
-    double R = 0;
-    const Status st = sphereScene(o, sim, R);
-    ASSERT_TRUE(st.ok()) << st.message();
-    ASSERT_TRUE(sim.advanceTo(91).ok());
-    const StateFrame& f = sim.frame(90);
-    double deepest = 0;
-    for (double d : f.pointData.at("contact_depth"))
-      deepest = std::max(deepest, d);
-    std::printf("contacts %s: %ld points inside, deepest %.3g m\n", enabled ? "on" : "off",
-                sim.contacts().back(), deepest);
-    if (enabled)
+  for (Integrator integrator : {Integrator::SemiImplicit, Integrator::Midpoint})
+    for (bool enabled : {true, false})
     {
-      EXPECT_EQ(sim.contacts().back(), 0);
-      EXPECT_EQ(deepest, 0.0);
-      EXPECT_NE(f.energy.at("contact_work"), 0.0);
-      EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.superHelix.contacts.stiffness);
+      SCOPED_TRACE(toString(integrator));
+      SimulationOptions o;
+      o.superHelix.contacts.enabled = enabled;
+      o.superHelix.integrator = integrator;
+      Simulation sim;
+      double R = 0;
+      const Status st = sphereScene(o, sim, R);
+      ASSERT_TRUE(st.ok()) << st.message();
+      ASSERT_TRUE(sim.advanceTo(91).ok());
+      const StateFrame& f = sim.frame(90);
+      double deepest = 0;
+      for (double d : f.pointData.at("contact_depth"))
+        deepest = std::max(deepest, d);
+      std::printf("contacts %s: %ld points inside, deepest %.3g m\n", enabled ? "on" : "off",
+                  sim.contacts().back(), deepest);
+      if (enabled)
+      {
+        EXPECT_EQ(sim.contacts().back(), 0);
+        EXPECT_EQ(deepest, 0.0);
+        EXPECT_NE(f.energy.at("contact_work"), 0.0);
+        EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.superHelix.contacts.stiffness);
+      }
+      else
+      {
+        // Without contacts the guide, clamped 4 mm above the top, falls into the sphere: its
+        // far part hangs from the clamp inside (measured: 4 cm deep).
+        EXPECT_GT(sim.contacts().back(), 0);
+        EXPECT_GT(deepest, 0.01);
+      }
     }
-    else
-    {
-      // Without contacts the guide, clamped 4 mm above the top, falls into the sphere: its
-      // far part hangs from the clamp inside (measured: 4 cm deep).
-      EXPECT_GT(sim.contacts().back(), 0);
-      EXPECT_GT(deepest, 0.01);
-    }
-  }
 }
 
 TEST(SimulationBodyContacts, BadContactParametersAreRefused)

@@ -16,12 +16,18 @@ namespace
 {
 const double NaN = std::numeric_limits<double>::quiet_NaN();
 
-StrandSpec goodSpec()
+StrandSpec goodSpec(Integrator integrator = Integrator::SemiImplicit)
 {
   StrandSpec s = StrandSpec::uniform(0.3, 10, HairParameters::preset(HairType::Wavy));
   s.name = "guide-7";
   s.id = 7;
+  s.integrator = integrator;
   return s;
+}
+
+std::string integratorName(const ::testing::TestParamInfo<Integrator>& info)
+{
+  return info.param == Integrator::Midpoint ? "Midpoint" : "SemiImplicit";
 }
 
 void expectRefused(const StrandSpec& spec, const std::string& mentions)
@@ -82,12 +88,19 @@ TEST(SuperHelixInput, BadParametersAreRefusedWithTheirName)
     return r;
   };
   expectRefused(s, "orientation");
+  s = goodSpec();
+  s.integrator = static_cast<Integrator>(2);
+  expectRefused(s, "integrator");
 }
 
-TEST(SuperHelixInput, BadTimeStepIsRefusedAndNothingChanges)
+class SuperHelixSteps : public ::testing::TestWithParam<Integrator>
+{
+};
+
+TEST_P(SuperHelixSteps, BadTimeStepIsRefusedAndNothingChanges)
 {
   SuperHelix h;
-  ASSERT_TRUE(h.initialize(goodSpec()).ok());
+  ASSERT_TRUE(h.initialize(goodSpec(GetParam())).ok());
   const Eigen::VectorXd q = h.q();
   for (double dt : {0.0, -1.0 / 30, NaN, std::numeric_limits<double>::infinity()})
   {
@@ -102,10 +115,12 @@ TEST(SuperHelixInput, BadTimeStepIsRefusedAndNothingChanges)
   EXPECT_FALSE(fresh.step(1.0 / 30).ok()); // not initialized: an error, not a crash
 }
 
-TEST(SuperHelixInput, BlowUpStopsWithStrandAndTimeAndKeepsTheState)
+TEST_P(SuperHelixSteps, BlowUpStopsWithStrandAndTimeAndKeepsTheState)
 {
+  // (The midpoint step declines a step that blows up for the semi-implicit one, which then
+  // reports the error: the same message.)
   SuperHelix h;
-  ASSERT_TRUE(h.initialize(goodSpec()).ok());
+  ASSERT_TRUE(h.initialize(goodSpec(GetParam())).ok());
   for (int i = 0; i < 3; ++i)
     ASSERT_TRUE(h.step(1.0 / 30).ok());
   const Eigen::VectorXd q = h.q(), qd = h.qdot();
@@ -205,18 +220,25 @@ TEST(SuperHelixInput, TwoThreadsGiveTheSameStrandsAsOne)
   EXPECT_TRUE(contains(st.message(), "id 3")) << st.message();
 }
 
-TEST(SuperHelixInput, AdaptiveSubstepsOnlyWhenAskedAndMoreAccurate)
+TEST_P(SuperHelixSteps, AdaptiveSubstepsOnlyWhenAskedAndMoreAccurate)
 {
   // A smooth 20 cm strand released horizontally: reference with dt = 1/3840 s.
   HairParameters p = HairParameters::preset(HairType::Smooth);
   StrandSpec spec = StrandSpec::uniform(0.2, 6, p);
+  spec.integrator = GetParam();
   auto run = [&](double dt, double tol)
   {
     SuperHelix h;
     EXPECT_TRUE(h.initialize(spec).ok());
     const int n = static_cast<int>(std::lround(0.2 / dt));
     for (int i = 0; i < n; ++i)
+    {
       EXPECT_TRUE(h.advance(dt, tol).ok());
+      if (tol <= 0)
+        EXPECT_EQ(h.lastSubsteps(), 1);
+      else // the embedded estimates of the sub-steps add up to at most the tolerance
+        EXPECT_LE(h.lastErrorEstimate(), tol * (1 + 1e-12));
+    }
     return h.position(0.2);
   };
   const Eigen::Vector3d ref = run(1.0 / 3840, 0);
@@ -225,10 +247,15 @@ TEST(SuperHelixInput, AdaptiveSubstepsOnlyWhenAskedAndMoreAccurate)
   RecordProperty("tip_error_fixed", std::to_string(coarse));
   // (std::to_string: 6 decimals of a metre are enough here)
   RecordProperty("tip_error_adaptive", std::to_string(adaptive));
-  // Step doubling bounds each step's error near the tolerance (1e-4 m); over 6 steps the
-  // global error stays within a few tolerances. The first-order reference is itself
+  // The controller keeps the estimates of each 1/30 s within 1e-4 m; over 6 such intervals
+  // the global error stays within a few tolerances. The semi-implicit reference is itself
   // ~1.4e-4 m off (its error at dt = 1/960 is 5.6e-4 m, divided by 4), so 5e-4 m allows
-  // for both, and is 14× below the fixed step's 7e-3 m.
+  // for both, and is 50× below the fixed step's 2.5e-2 m (semi-implicit; midpoint: 1.5e-2
+  // fixed, 1e-6 adaptive).
   EXPECT_LT(adaptive, coarse / 10) << coarse << " " << adaptive;
   EXPECT_LT(adaptive, 5e-4);
 }
+
+INSTANTIATE_TEST_SUITE_P(Integrators, SuperHelixSteps,
+                         ::testing::Values(Integrator::SemiImplicit, Integrator::Midpoint),
+                         integratorName);

@@ -42,6 +42,13 @@ def fetch(proxy, port=0):
     return servermanager.Fetch(proxy, None, None, port)
 
 
+def table_columns(table):
+    """A vtkTable's columns by name, as numpy arrays."""
+    from vtkmodules.numpy_interface import dataset_adapter as dsa
+    return {table.GetColumnName(c): dsa.WrapDataObject(table).RowData[table.GetColumnName(c)]
+            for c in range(table.GetNumberOfColumns())}
+
+
 failures = []
 
 

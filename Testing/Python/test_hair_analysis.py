@@ -12,7 +12,7 @@ from paraview.simple import Delete, LegacyVTKReader, OutputPort
 from vtkmodules.numpy_interface import dataset_adapter as dsa
 
 import hairtest
-from hairtest import Errors, check, fetch
+from hairtest import Errors, check, fetch, table_columns
 
 hairtest.load_plugin(globals())
 tmp = tempfile.mkdtemp()
@@ -22,11 +22,6 @@ GROUP = [0, 2, 3, 6]
 # Tolerance of quantities recomputed here in another order of operations (numpy's sums,
 # norms): distances of order 0.1 m carry a few rounding errors of 2.2e-16 relative.
 ROUNDING = 1e-14
-
-
-def table_columns(table):
-    return {table.GetColumnName(c): dsa.WrapDataObject(table).RowData[table.GetColumnName(c)]
-            for c in range(table.GetNumberOfColumns())}
 
 
 def frame_of(proxy, t):
@@ -73,10 +68,14 @@ cols = table_columns(table)
 check(table.GetNumberOfRows() == len(steps) == 13, f"one row per frame ({table.GetNumberOfRows()} rows, {len(steps)} time steps)")
 check(np.array_equal(cols["Time"], steps), "Time is the input's TIME_STEPS, exactly")
 
-# Energy: every column of the simulation's table but the two contact diagnostics, exactly;
-# those two are the analysis's contacts and max_contact_depth.
+# Energy: every column of the simulation's table but the two contact diagnostics and the
+# step statistics, exactly; the contact diagnostics are the analysis's contacts and
+# max_contact_depth, the step statistics are not in a state file and not in the analysis.
 energy = table_columns(fetch(sim, 1))
-terms = [n for n in energy if n not in ("Time", "nodes_inside", "max_depth")]
+STEPS = ("substeps", "rejected_substeps", "first_order_share", "error_estimate")
+check(all(n in energy for n in STEPS) and not any(n in cols for n in STEPS),
+      "the simulation's table has the step statistics, the analysis's does not")
+terms = [n for n in energy if n not in ("Time", "nodes_inside", "max_depth") + STEPS]
 check(len(energy["Time"]) == len(steps) and np.array_equal(energy["Time"], steps),
       "the simulation's energy table has every frame, at the same times")
 check(set(terms) >= {"kinetic", "elastic", "gravitational", "dissipated", "external_work"}

@@ -14,7 +14,7 @@ import numpy as np
 from paraview.simple import Calculator, Delete, LegacyVTKReader, UpdatePipeline
 
 import hairtest
-from hairtest import Errors, check, fetch
+from hairtest import Errors, check, fetch, table_columns
 
 hairtest.load_plugin(globals())
 tmp = tempfile.mkdtemp()
@@ -201,6 +201,37 @@ check(not errors.messages and attrs.get("quadrature_tolerance") == 1e-2,
 default_q = HairSimulation(Input=strands).GetProperty("QuadratureTolerance")[0]  # noqa: F821
 check(default_q == 5.3362954729907547e-06,
       f"the property's default is Core's ({default_q!r})")
+
+# Integrator and Tolerance: out of range is refused by name; the second-order step with a
+# tolerance goes through, is recorded, and the energy table has, per frame, the sub-steps it
+# took and their error estimate, which stays within its share of the tolerance (m per second
+# of simulated time, so 1/30 of it per frame); fixed steps take one step per frame of the
+# first-order step.
+bad_t = HairSimulation(Input=strands, Duration=0.1, Tolerance=-1)  # noqa: F821
+errors = Errors(bad_t)
+bad_t.UpdatePipeline(0.0)
+check(any("Tolerance" in m for m in errors.messages),
+      f"a negative tolerance is refused by name ({errors.messages[:1]})")
+i_state = os.path.join(tmp, "integrator.h5")
+accurate = HairSimulation(Input=strands, Duration=0.2,  # noqa: F821
+                          Integrator="Second order (midpoint)", Tolerance=2e-2,
+                          BodyMotion="Shake", MotionAmplitude=0.3, StateFileName=i_state)
+errors = Errors(accurate)
+accurate.UpdatePipeline(0.2)
+with h5py.File(i_state, "r", swmr=True) as f:
+    attrs = dict(f.attrs)
+check(not errors.messages and attrs.get("integrator") == 1 and attrs.get("tolerance") == 2e-2,
+      f"a second-order run with a tolerance goes through and is recorded ({errors.messages[:1]})")
+steps_table = table_columns(fetch(accurate, 1))
+check(steps_table["substeps"][0] == 0 and all(steps_table["substeps"][1:] >= 1)
+      and steps_table["substeps"].max() > 1
+      and all(steps_table["error_estimate"][1:] <= 2e-2 / 30 * (1 + 1e-9)),
+      f"the energy table has the sub-steps per frame ({steps_table['substeps']}) and their "
+      f"error estimate within 2e-2/30 m ({steps_table['error_estimate'].max():.2e} m)")
+fixed = table_columns(fetch(loose, 1))
+check(all(fixed["substeps"][1:] == 1) and all(fixed["first_order_share"][1:] == 1)
+      and all(fixed["error_estimate"][1:] > 0),
+      "fixed semi-implicit steps: one step per frame, first order, with an error estimate")
 
 # A run killed with SIGKILL mid-way leaves a readable file.
 killed = os.path.join(tmp, "killed.h5")

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Fuzzes the state-file reader (Testing/Fuzz/fuzz_state_file.cxx) with libFuzzer for a bounded
+# time: clang, AddressSanitizer and UndefinedBehaviorSanitizer, in build-fuzz/, over a copy of
+# the seed corpus (Testing/Fuzz/corpus/; the copy grows, the repository's does not). Fails on
+# any crash, sanitizer report, out-of-memory or input slower than the timeout; the input is
+# left in build-fuzz/artifacts/ (keep it in Testing/Fuzz/regressions/ once fixed).
+#   bash Scripts/fuzz.sh [seconds]      (default 300, what CI runs; docs/robustness.md)
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${HAIR_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+JOBS="${HAIR_JOBS:-2}"
+SECONDS_TO_RUN="${1:-300}"
+bash "$ROOT/Scripts/install-deps.sh"
+
+start=$(date +%s)
+if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+  cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g" \
+    -DHAIR_BUILD_PARAVIEW=OFF -DHAIR_BUILD_BENCHMARKS=OFF -DHAIR_BUILD_TESTING=OFF \
+    -DHAIR_BUILD_FUZZ=ON -DHAIR_SANITIZE=address,undefined
+fi
+cmake --build "$BUILD" -j "$JOBS" --target fuzz_state_file
+built=$(date +%s)
+
+corpus="$BUILD/corpus"
+mkdir -p "$corpus" "$BUILD/artifacts"
+cp -n "$ROOT"/Testing/Fuzz/corpus/* "$corpus"/
+export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+export LSAN_OPTIONS="suppressions=$ROOT/Testing/Sanitizers/lsan.supp:print_suppressions=0"
+# -timeout=10: an input that takes 10 s is a hang (a damaged file must be refused within
+# seconds). -rss_limit_mb=4096: the reader must not allocate what the file does not hold.
+"$BUILD/bin/fuzz_state_file" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=4096 \
+  -artifact_prefix="$BUILD/artifacts/" -print_final_stats=1 "$corpus" \
+  2>&1 | tail -n 40
+echo "fuzz.sh: build $((built - start)) s, fuzzing ${SECONDS_TO_RUN} s"
