@@ -136,8 +136,8 @@ hair = HairInterpolation(Input=sim, Scalp=body, NumberOfStrands=400)  # noqa: F8
 hair.UpdatePipeline(DURATION)
 rendered = hair.GetClientSideObject().GetOutputDataObject(0).GetNumberOfLines()
 counts = comm.allgather(rendered)
-check(sum(counts) > 0 and (ranks == 1 or all(c > 0 for c in counts)),
-      f"Hair Interpolation renders hair on every piece (strands per rank {counts})")
+check(sum(counts) == 400 and (ranks == 1 or all(c > 0 for c in counts)),
+      f"Hair Interpolation renders hair on every piece, 400 in all (strands per rank {counts})")
 
 if rank == 0:
     print(f"{ranks} ranks: {len(failures)} failed" if failures else f"{ranks} ranks: all checks passed")
