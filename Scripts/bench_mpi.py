@@ -4,7 +4,8 @@ write to the shared state file included.
 
   /usr/bin/python3 Scripts/bench_mpi.py core build/Testing/bench_mpi_simulation [options]
   /usr/bin/python3 Scripts/bench_mpi.py pvbatch build/.../HairDynamics.so [options]
-  options: [--guides 2000] [--frames 20] [--rounds 3] [--ranks 1 2] [--threads 1] [--points 16] [--out DIR]
+  options: [--guides 2000] [--frames 20] [--rounds 3] [--ranks 1 2] [--threads 1] [--points 16]
+           [--out DIR] [--no-file] [--hair wavy|quadrants]
 
 `core` runs Testing/Benchmarks/bench_mpi_simulation (Core's hair::Simulation alone) and
 prints where each rank's time went (stepping, waiting for the other ranks, the frame's
@@ -36,6 +37,8 @@ parser.add_argument("--threads", type=int, default=1)
 parser.add_argument("--points", type=int, default=16)
 parser.add_argument("--out", default="Output/bench_mpi")
 parser.add_argument("--no-file", action="store_true", help="no state file (the frames kept in memory)")
+parser.add_argument("--hair", choices=["wavy", "quadrants"], default="wavy",
+                    help="core only: every guide wavy, or the four presets by quadrant of the scalp")
 args = parser.parse_args()
 os.makedirs(args.out, exist_ok=True)
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -52,6 +55,8 @@ for r in range(args.rounds):
         else:
             cmd += [shutil.which("pvbatch"), "--symmetric", os.path.join(HERE, "mpi_frames.py"), args.target]
         cmd += [str(args.guides), str(args.frames), state, str(args.threads), str(args.points)]
+        if args.kind == "core":
+            cmd += [args.hair]
         done = subprocess.run(cmd, capture_output=True, text=True)
         line = [x for x in done.stdout.splitlines() if x.startswith("{")]
         if done.returncode != 0 or not line:
@@ -66,7 +71,7 @@ for r in range(args.rounds):
 best = {n: min(results[n], key=lambda x: x["median_ms"]) for n in args.ranks}
 base = best[args.ranks[0]]
 print()
-print(f"{args.kind}: {args.guides} wavy guides, N = 10, {args.points} points per element, body contacts, "
+print(f"{args.kind}: {args.guides} {args.hair if args.kind == 'core' else 'wavy'} guides, N = 10, {args.points} points per element, body contacts, "
       f"{args.threads} thread(s) per rank, {len(base['wall'])} frames timed, {args.rounds} rounds alternated, "
       f"state file: {'none' if args.no_file else 'yes'}")
 print()

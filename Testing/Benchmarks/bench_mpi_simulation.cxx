@@ -44,11 +44,26 @@ int main(int argc, char** argv)
   const std::string state = argv[3];
   const int threads = argc > 4 ? std::atoi(argv[4]) : 1;
   const int per = argc > 5 ? std::atoi(argv[5]) : 16;
+  const bool quadrants = argc > 6 && std::string(argv[6]) == "quadrants";
 
   BundledBody body;
   std::vector<GuideStrand> guides;
   Status s = loadBundledBody(HAIR_DATA_DIR, body);
   s = s ? demoGuides(body, count, 10, guides) : s;
+  if (s && quadrants)
+  {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const GuideStrand& g : guides)
+    {
+      centre += g.root / double(guides.size());
+    }
+    const HairType types[] = {HairType::Smooth, HairType::Wavy, HairType::Curly, HairType::Fuzzy};
+    for (GuideStrand& g : guides)
+    {
+      const Eigen::Vector3d d = g.root - centre;
+      g.hair = HairParameters::preset(types[(d.x() > 0 ? 1 : 0) + (d.z() > 0 ? 2 : 0)]);
+    }
+  }
   SimulationOptions o;
   o.threads = threads;
   o.ranks = world;
@@ -122,6 +137,14 @@ int main(int argc, char** argv)
         std::printf("%s\"%s\": %.6g", i ? ", " : "", names[i], all[r * fields + i]);
       }
       std::printf("}");
+    }
+    std::printf("], \"preset_cost_us\": [");
+    const HairType types[] = {HairType::Smooth, HairType::Wavy, HairType::Curly, HairType::Fuzzy};
+    for (int i = 0; i < 4; ++i)
+    {
+      GuideStrand g = guides.front();
+      g.hair = HairParameters::preset(types[i]);
+      std::printf("%s%.4f", i ? ", " : "", model->stepCost(g));
     }
     std::printf("]}\n");
   }
