@@ -5,6 +5,11 @@
 # any crash, sanitizer report, out-of-memory or input slower than the timeout; the input is
 # left in build-fuzz/artifacts/ (keep it in Testing/Fuzz/regressions/ once fixed).
 #   bash Scripts/fuzz.sh [seconds]      (default 300, what CI runs; docs/robustness.md)
+# HAIR_FUZZ_SEED (default 24) fixes libFuzzer's random seed, and each run starts from the
+# repository's corpus, so that a CI failure can be replayed exactly: CI explores the first
+# minutes of the same search every time (as far as the machine's speed takes it), and a
+# longer run locally with the same seed covers what CI will see. HAIR_FUZZ_SEED=0 draws a
+# new seed, and HAIR_FUZZ_KEEP=1 keeps growing build-fuzz/corpus/ across runs: exploration.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${HAIR_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
@@ -24,6 +29,9 @@ cmake --build "$BUILD" -j "$JOBS" --target fuzz_state_file
 built=$(date +%s)
 
 corpus="$BUILD/corpus"
+if [ "${HAIR_FUZZ_KEEP:-0}" != 1 ]; then
+  rm -rf "$corpus"
+fi
 mkdir -p "$corpus" "$BUILD/artifacts"
 cp -n "$ROOT"/Testing/Fuzz/corpus/* "$corpus"/
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=1"
@@ -31,7 +39,7 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export LSAN_OPTIONS="suppressions=$ROOT/Testing/Sanitizers/lsan.supp:print_suppressions=0"
 # -timeout=10: an input that takes 10 s is a hang (a damaged file must be refused within
 # seconds). -rss_limit_mb=4096: the reader must not allocate what the file does not hold.
-"$BUILD/bin/fuzz_state_file" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=4096 \
+"$BUILD/bin/fuzz_state_file" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=4096 -seed="${HAIR_FUZZ_SEED:-24}" \
   -artifact_prefix="$BUILD/artifacts/" -print_final_stats=1 "$corpus" \
   2>&1 | tail -n 40
 echo "fuzz.sh: build $((built - start)) s, fuzzing ${SECONDS_TO_RUN} s"

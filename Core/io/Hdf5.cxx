@@ -147,7 +147,8 @@ Status readStringAttribute(hid_t obj, const char* name, std::string& value)
     H5Tset_cset(memType.get(), H5Tget_cset(type.get()));
     if (H5Aread(attr.get(), memType.get(), &s) < 0 || s == nullptr)
     {
-      return Status::Error(unreadable);
+      return Status::Error(unreadable + " (the global heap holding its text is "
+                                        "damaged or unreadable)");
     }
     value = s;
     H5free_memory(s);

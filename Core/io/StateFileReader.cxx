@@ -3,6 +3,7 @@
 #include "io/StateFile.h"
 
 #include "common/Partition.h"
+#include "io/CheckedReadDriver.h"
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
 
@@ -111,16 +112,34 @@ Status openFile(const std::string& path, Handle& file)
   // A file still being written (or whose writer was killed) opens in SWMR-read mode, with
   // bounded retries; a file written otherwise (h5py, a copy), or whose SWMR open fails,
   // opens normally (no retries).
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
-  H5Pset_metadata_read_attempts(fapl.get(), MetadataReadAttempts);
-  file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, fapl.get()));
+  // Both through the checked driver (io/CheckedReadDriver.h), which refuses a damaged
+  // global heap before HDF5 decodes it.
+  Handle swmr(checkedReadAccess(MetadataReadAttempts)), plain(checkedReadAccess(1));
+  if (!swmr.valid() || !plain.valid())
+  {
+    return Status::Error("cannot be opened: HDF5 refused HairDynamics' read-only file driver.");
+  }
+  file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, swmr.get()));
   if (!file.valid())
   {
-    file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+    file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, plain.get()));
   }
   if (!file.valid())
   {
     return Status::Error("is damaged or truncated: HDF5 cannot open it.");
+  }
+  // The driver checks global heaps with 8-byte lengths, what HDF5 (and h5py) write on every
+  // 64-bit system; a file with other sizes is not one of ours.
+  Handle fcpl(H5Fget_create_plist(file.get()));
+  std::size_t addressBytes = 0, lengthBytes = 0;
+  if (!fcpl.valid() || H5Pget_sizes(fcpl.get(), &addressBytes, &lengthBytes) < 0 ||
+      addressBytes != 8 || lengthBytes != 8)
+  {
+    file.reset();
+    return Status::Error("stores " + std::to_string(addressBytes) + "-byte addresses and " +
+                         std::to_string(lengthBytes) +
+                         "-byte lengths; a state file has 8-byte ones: it is not a "
+                         "HairDynamics state file, or it is damaged.");
   }
   return Status::Ok();
 }

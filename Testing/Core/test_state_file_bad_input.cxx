@@ -4,6 +4,7 @@
 // NaN values in a frame, special files, flipped bytes, and two readers of one growing file.
 // Each file is a real state file (StateFileWriter) edited with HDF5's C API, as a user's
 // script or a damaged disk would leave it.
+#include "io/CheckedReadDriver.h"
 #include "io/StateFile.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +16,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -608,6 +612,131 @@ TEST(StateFileBadInput, FlippedBytesAreRefusedOrReadNeverHang)
   std::printf("flipped bytes: %d refused, %d read whole; slowest open and read %.3f s\n", refused,
               read, slowest);
   EXPECT_GT(refused, 0);
+}
+
+namespace
+{
+/// A global heap collection of `size` bytes (8-byte lengths) holding `objects` (index, size)
+/// after its header, each object's data zeros padded to 8 bytes.
+std::vector<unsigned char> collection(std::uint64_t size,
+                                      const std::vector<std::pair<int, std::uint64_t>>& objects)
+{
+  std::vector<unsigned char> c(std::max<std::uint64_t>(size, 16), 0);
+  std::memcpy(c.data(), "GCOL", 4);
+  c[4] = 1;
+  auto put = [&](std::size_t at, std::uint64_t v, int bytes)
+  {
+    for (int k = 0; k < bytes && at + k < c.size(); ++k)
+    {
+      c[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    }
+  };
+  put(8, size, 8);
+  std::size_t at = 16;
+  for (const auto& [index, bytes] : objects)
+  {
+    put(at, std::uint64_t(index), 2);
+    put(at + 8, bytes, 8);
+    at += index > 0 ? 16 + ((bytes + 7) & ~std::uint64_t(7)) : bytes;
+  }
+  return c;
+}
+
+bool decodable(const std::vector<unsigned char>& c)
+{
+  return hdf5::checkGlobalHeapCollection(c.data(), c.size()).ok();
+}
+} // namespace
+
+TEST(StateFileBadInput, GlobalHeapCollectionsAreCheckedAsHdf5WalksThem)
+{
+  // The layout of HDF5's File Format Specification 3.0, III.E: a 16-byte header, objects of
+  // a 16-byte header and data padded to 8 bytes, the free space (object 0) counting its header.
+  EXPECT_TRUE(decodable(collection(4096, {{1, 19}, {2, 11}, {0, 4096 - 16 - 40 - 32}})));
+  EXPECT_TRUE(decodable(collection(64, {{1, 32}})));            // full: no free space
+  EXPECT_TRUE(decodable(collection(64, {{1, 24}})));            // 8 bytes left: too short to be one
+  EXPECT_FALSE(decodable(collection(4096, {{1, 19}, {0, 0}}))); // HDF5 1.10.8 loops on it
+  EXPECT_FALSE(decodable(collection(4096, {{1, 19}, {0, 8}}))); // shorter than its header
+  EXPECT_FALSE(decodable(collection(4096, {{1, 4096}})));       // runs past the collection
+  EXPECT_FALSE(decodable(collection(4096, {{1, ~std::uint64_t(0) - 3}}))); // wraps around
+  EXPECT_FALSE(decodable(collection(4096, {{1, 19}, {0, 8192}})));
+  std::vector<unsigned char> cut = collection(4096, {{0, 4080}});
+  cut.resize(2048); // the declared size is not all given
+  EXPECT_FALSE(hdf5::checkGlobalHeapCollection(cut.data(), cut.size()).ok());
+  const unsigned char notOne[32] = "GCOX";
+  EXPECT_TRUE(hdf5::checkGlobalHeapCollection(notOne, sizeof(notOne)).ok());
+}
+
+TEST(StateFileBadInput, ADamagedGlobalHeapIsRefusedNotLoopedOn)
+{
+  // The strings `format` and `model` live in the file's global heap. A fuzzed file whose
+  // free-space object had size 0 made H5Aread loop for ever inside HDF5 1.10.8 (CI's fuzzer,
+  // Testing/Fuzz/regressions/timeout-global-heap-free-space-zero); the checked driver now
+  // refuses the read. Each open runs in a child process with a 20-s alarm, so that a hang
+  // fails this test instead of stalling it.
+  const std::string path = stateFile("heap-source.h5");
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::size_t heap = bytes.find("GCOL\x01", 0, 5);
+  ASSERT_NE(heap, std::string::npos) << "the writer's strings are variable-length";
+  auto u64 = [&](std::size_t at)
+  {
+    std::uint64_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 8);
+    return v;
+  };
+  auto set = [](std::string& b, std::size_t at, std::uint64_t v) { std::memcpy(&b[at], &v, 8); };
+  // Walk to the free-space object as HDF5 would.
+  const std::uint64_t size = u64(heap + 8);
+  std::size_t at = heap + 16, freeSpace = 0;
+  while (at + 16 <= heap + size)
+  {
+    const int index = static_cast<unsigned char>(bytes[at]) | (bytes[at + 1] << 8);
+    if (index == 0)
+    {
+      freeSpace = at;
+      break;
+    }
+    at += 16 + ((u64(at + 8) + 7) & ~std::uint64_t(7));
+  }
+  ASSERT_GT(freeSpace, 0u);
+  const std::size_t firstObject = heap + 16;
+
+  std::vector<std::pair<std::string, std::string>> cases;
+  cases.push_back({"heap-free-zero.h5", bytes});
+  set(cases.back().second, freeSpace + 8, 0);
+  cases.push_back({"heap-object-long.h5", bytes});
+  set(cases.back().second, firstObject + 8, size);
+  cases.push_back({"heap-past-end.h5", bytes});
+  set(cases.back().second, heap + 8, 1u << 30);
+  cases.push_back({"heap-free-zero-large.h5", bytes}); // declared larger than its 4 KiB read
+  set(cases.back().second, heap + 8, bytes.size() - heap);
+  set(cases.back().second, freeSpace + 8, 0);
+  for (const auto& [name, content] : cases)
+  {
+    const std::string copy = temp(name);
+    std::ofstream(copy, std::ios::binary) << content;
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0)
+    {
+      alarm(20);
+      StateFileReader r;
+      const Status s = r.open(copy);
+      std::printf("%s: %s\n", name.c_str(), s ? "read" : s.message().c_str());
+      std::fflush(stdout);
+      _exit(!s && s.message().find(copy) != std::string::npos ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFEXITED(status)) << name << ": the open did not end (signal "
+                                   << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << name << " was not refused";
+  }
+  expectRead(path); // the undamaged file still reads through the checked driver
 }
 
 TEST(StateFileBadInput, TwoReadersOfOneFileSeeItsNewFrames)
