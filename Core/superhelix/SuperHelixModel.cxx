@@ -73,6 +73,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     return s;
   }
   Run = run;
+  Time = 0;
   World = scene;
   Options.contacts.lookAhead = run.timeStep;
   if (Status s = Body.setParameters(Options.contacts); !s)
@@ -161,14 +162,14 @@ void SuperHelixModel::respond(std::size_t strand, int id, double t,
 
 double SuperHelixModel::time() const
 {
-  return Helices.empty() ? 0 : Helices[0].time();
+  return Time;
 }
 
 Status SuperHelixModel::advanceTo(double target)
 {
   const int steps =
       std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
-  const double dt = (target - time()) / steps;
+  const double dt = (target - Time) / steps;
   auto findContacts = [&]() -> Status
   {
     if (Status s = findHairHairContacts(Helices, HairHair); !s)
@@ -211,6 +212,7 @@ Status SuperHelixModel::advanceTo(double target)
       tally();
     }
   }
+  Time = target;
   return Status::Ok();
 }
 

@@ -97,6 +97,10 @@ private:
   void tally();
   double Substeps = 0, Rejected = 0, FirstOrder = 0;
   std::vector<double> FrameError; // per strand
+  /// The run's time: every strand is stepped by the same dt from it. Not a strand's own
+  /// time, which sub-steps (a tolerance) leave off by round-off that differs from strand to
+  /// strand, so that which strand came first (under MPI: on which rank) changed every dt.
+  double Time = 0;
 };
 
 } // namespace hair

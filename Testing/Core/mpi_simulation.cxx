@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -443,6 +444,76 @@ INSTANTIATE_TEST_SUITE_P(BothModels, RankIndependence,
                          [](const auto& info) {
                            return info.param == ModelType::SuperHelix ? "SuperHelix" : "Projective";
                          });
+
+TEST(StepStatistics, TheEnergyTablesStatisticsAreTheWholeRuns)
+{
+  // The second-order step with a tolerance: strands take different numbers of sub-steps,
+  // some first order. On 2 ranks the strands are the same bit for bit, and the table's
+  // statistics are the whole run's, not rank 0's: the mean sub-steps and rejections over
+  // every strand and the share of first-order steps equal one rank's to round-off (a sum
+  // of per-rank sums: (S − 1) u relative, Higham §4.2), the error estimate (a maximum)
+  // exactly.
+  const Ranks world(MPI_COMM_WORLD);
+  if (world.size() < 2)
+  {
+    GTEST_SKIP() << "needs 2 ranks";
+  }
+  const std::vector<GuideStrand> guides = mixedGuides(12, 5);
+  SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  o.superHelix.integrator = Integrator::Midpoint;
+  o.superHelix.tolerance = 0.002;
+  Outcome one, two;
+  {
+    const FirstRanks sub = firstRanks(1);
+    if (sub.member)
+    {
+      one = run(guides, o, sub.ranks, 8);
+    }
+  }
+  {
+    const FirstRanks sub = firstRanks(2);
+    if (sub.member)
+    {
+      two = run(guides, o, sub.ranks, 8);
+    }
+  }
+  if (world.rank() != 0)
+  {
+    return;
+  }
+  ASSERT_TRUE(one.status.ok()) << one.status.message();
+  ASSERT_TRUE(two.status.ok()) << two.status.message();
+  // Sub-steps leave each strand's own time off by round-off of its own; every strand is
+  // stepped from the model's time, so the strands are the same bit for bit on 2 ranks (they
+  // were 4e-8 m apart when the model took its time from its first strand).
+  EXPECT_EQ(largestDifference(one, two), 0.0);
+  const double bound = double(guides.size()) * std::ldexp(1.0, -53);
+  bool varied = false;
+  for (const char* name : {"substeps", "rejected_substeps", "first_order_share", "error_estimate"})
+  {
+    const std::vector<double>& a = one.table.at(name);
+    const std::vector<double>& b = two.table.at(name);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t f = 0; f < a.size(); ++f)
+    {
+      if (std::string(name) == "error_estimate")
+      {
+        EXPECT_EQ(a[f], b[f]) << name << " at frame " << f;
+      }
+      else
+      {
+        EXPECT_LE(std::abs(a[f] - b[f]), bound * std::abs(a[f])) << name << " at frame " << f;
+      }
+    }
+    varied = varied || std::any_of(a.begin(), a.end(),
+                                   [&](double v) {
+                                     return std::string(name) == "substeps" && v != 1.0 && v != 0.0;
+                                   });
+  }
+  // The statistics vary over the strands (a mean that is not one step a frame), so rank 0's
+  // own would differ from the whole run's.
+  EXPECT_TRUE(varied);
+}
 
 TEST(MoreRanksThanStrands, ThreeStrandsOrOneOnFourRanks)
 {
