@@ -3,8 +3,10 @@
 #include "model/GroomReport.h"
 #include "strands/StrandParameters.h"
 
+#include <vtkAppendPolyData.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -12,6 +14,9 @@
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkIntArray.h>
+#include <vtkMPI.h>
+#include <vtkMPICommunicator.h>
+#include <vtkMPIController.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -355,7 +360,7 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
     {
       lines->InsertCellPoint(i);
     }
-    ids->InsertNextValue(static_cast<vtkIdType>(k));
+    ids->InsertNextValue(static_cast<vtkIdType>(header.strandId(k)));
   }
   strands->Initialize();
   strands->SetPoints(points);
@@ -648,6 +653,50 @@ Status toGuides(vtkPolyData* input, std::vector<GuideStrand>& guides)
   }
   guides = std::move(out);
   return Status::Ok();
+}
+
+void appendGhosts(vtkPolyData* strands, vtkPolyData* ghosts)
+{
+  const vtkIdType ownCells = strands->GetNumberOfCells(), ownPoints = strands->GetNumberOfPoints();
+  vtkNew<vtkAppendPolyData> append;
+  vtkNew<vtkPolyData> own;
+  own->ShallowCopy(strands);
+  append->AddInputData(own);
+  append->AddInputData(ghosts);
+  append->Update();
+  strands->ShallowCopy(append->GetOutput());
+  // Field data (the frame's Time) is not appended: the strands' own.
+  strands->SetFieldData(own->GetFieldData());
+  vtkNew<vtkUnsignedCharArray> cellGhosts, pointGhosts;
+  cellGhosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  pointGhosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  cellGhosts->SetNumberOfTuples(strands->GetNumberOfCells());
+  pointGhosts->SetNumberOfTuples(strands->GetNumberOfPoints());
+  for (vtkIdType c = 0; c < strands->GetNumberOfCells(); ++c)
+  {
+    cellGhosts->SetValue(c, c < ownCells ? 0 : vtkDataSetAttributes::DUPLICATECELL);
+  }
+  for (vtkIdType p = 0; p < strands->GetNumberOfPoints(); ++p)
+  {
+    pointGhosts->SetValue(p, p < ownPoints ? 0 : vtkDataSetAttributes::DUPLICATEPOINT);
+  }
+  strands->GetCellData()->AddArray(cellGhosts);
+  strands->GetPointData()->AddArray(pointGhosts);
+}
+
+Ranks toRanks(vtkMultiProcessController* controller)
+{
+  vtkMPIController* mpi = vtkMPIController::SafeDownCast(controller);
+  if (!mpi || mpi->GetNumberOfProcesses() < 2)
+  {
+    return Ranks();
+  }
+  vtkMPICommunicator* communicator = vtkMPICommunicator::SafeDownCast(mpi->GetCommunicator());
+  if (!communicator || !communicator->GetMPIComm() || !communicator->GetMPIComm()->GetHandle())
+  {
+    return Ranks();
+  }
+  return Ranks(*communicator->GetMPIComm()->GetHandle());
 }
 
 void toEnergyTable(const std::vector<double>& times,

@@ -2,6 +2,7 @@
 // vtkPolyData / vtkImageData <-> HairCore types. The one place where the pipeline's data
 // and Core's meet; filters call these and stay thin.
 #include "collision/CollisionTable.h"
+#include "common/Ranks.h"
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "io/StateFile.h"
@@ -14,6 +15,7 @@
 #include <vector>
 
 class vtkImageData;
+class vtkMultiProcessController;
 class vtkPolyData;
 class vtkTable;
 
@@ -98,6 +100,17 @@ void toStrands(const StateHeader& header, const StateFrame& frame, vtkPolyData* 
 /// The drawn guides: toStrands of the drawing's header and frame, and the point arrays
 /// Tangent and Director1 (3 components) when the drawing has material frames.
 void toStrands(const GuideDrawing& drawing, vtkPolyData* strands);
+
+/// The ranks of ParaView's MPI controller (pvbatch, pvserver under mpirun) as Core's Ranks
+/// (a duplicate of its communicator; collective over the controller's processes): this
+/// process alone without MPI or on one process.
+Ranks toRanks(vtkMultiProcessController* controller);
+
+/// Appends `ghosts` (strands of other MPI ranks, with the same arrays) to `strands`, and
+/// marks them with VTK's ghost arrays (vtkGhostType: DUPLICATECELL on their cells,
+/// DUPLICATEPOINT on their points; 0 on the strands' own), which renderers hide and
+/// filters that count skip.
+void appendGhosts(vtkPolyData* strands, vtkPolyData* ghosts);
 
 /// One row per frame: Time, then one column per energy term.
 void toEnergyTable(const std::vector<double>& times,

@@ -2,11 +2,13 @@
 
 #include "vtkHairAnalysisExecutive.h"
 
+#include "HairConversion.h"
 #include "analysis/StrandAnalysis.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
@@ -19,6 +21,7 @@
 #include <vtkTable.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <string>
@@ -51,6 +54,10 @@ bool isEnergyColumn(const std::string& name)
 
 struct vtkHairAnalysis::Internals
 {
+  /// Under MPI, the ranks of ParaView's controller (made at the first request); this
+  /// process alone otherwise.
+  hair::Ranks Ranks;
+  bool HaveRanks = false;
   std::vector<double> Times; ///< the input's TIME_STEPS
   int Current = 0;           ///< index into Times of the frame the loop is at
   hair::StrandAnalysis Analysis;
@@ -184,6 +191,8 @@ int vtkHairAnalysis::RequestInformation(vtkInformation*, vtkInformationVector** 
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+  // Under MPI every rank measures its piece (and takes part in the reductions).
+  outInfo->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
   return 1;
 }
 
@@ -211,9 +220,15 @@ namespace
 {
 const char* const Source = "connect output 0 (Strands) of Hair Simulation or Hair State Reader";
 
-/// The strands' polylines and point arrays -> a Core frame and the StrandId of each strand.
-hair::Status toFrame(vtkPolyData* input, hair::StrandsFrame& frame, std::vector<vtkIdType>& ids)
+/// The strands' polylines and point arrays -> a Core frame, each strand numbered by its
+/// StrandId. `piece`: one rank's piece under MPI, which may have no strand.
+hair::Status toFrame(vtkPolyData* input, hair::StrandsFrame& frame, bool piece)
 {
+  frame = hair::StrandsFrame();
+  if (piece && input && input->GetNumberOfLines() == 0)
+  {
+    return hair::Status::Ok();
+  }
   if (!input || input->GetNumberOfLines() == 0)
   {
     return hair::Status::Error(std::string("the input has no polylines: ") + Source + ".");
@@ -239,14 +254,18 @@ hair::Status toFrame(vtkPolyData* input, hair::StrandsFrame& frame, std::vector<
     return hair::Status::Error(std::string("the input lacks the cell array 'StrandId': ") + Source +
                                ".");
   }
-  frame = hair::StrandsFrame();
-  ids.clear();
   frame.offsets.push_back(0);
   vtkCellArray* lines = input->GetLines();
   vtkNew<vtkIdList> points;
+  // Ghost strands (another rank's, which a downstream filter asked for) are measured there.
+  vtkDataArray* ghosts = input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
   vtkIdType cell = input->GetNumberOfVerts(); // cells are numbered verts first, then lines
   for (lines->InitTraversal(); lines->GetNextCell(points); ++cell)
   {
+    if (ghosts && (int(ghosts->GetComponent(cell, 0)) & vtkDataSetAttributes::DUPLICATECELL))
+    {
+      continue;
+    }
     for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
     {
       const vtkIdType p = points->GetId(i);
@@ -258,36 +277,40 @@ hair::Status toFrame(vtkPolyData* input, hair::StrandsFrame& frame, std::vector<
       frame.contactDepth.push_back(arrays[2]->GetComponent(p, 0));
     }
     frame.offsets.push_back(static_cast<std::int64_t>(frame.positions.size()));
-    ids.push_back(static_cast<vtkIdType>(strandIds->GetComponent(cell, 0)));
+    frame.ids.push_back(static_cast<std::int64_t>(strandIds->GetComponent(cell, 0)));
   }
   return hair::Status::Ok();
 }
 
-/// StrandIds -> indices of strands in the frame, for the property `what`.
-hair::Status toIndices(const std::vector<int>& wanted, const std::vector<vtkIdType>& ids,
-                       const char* what, std::vector<std::int64_t>& indices)
+/// The StrandIds the property `what` names, each checked to be in the input (under MPI: in
+/// some rank's piece; collective).
+hair::Status toIds(const std::vector<int>& wanted, const hair::StrandsFrame& frame,
+                   const char* what, const hair::Ranks& ranks, std::vector<std::int64_t>& out)
 {
-  indices.clear();
-  for (int id : wanted)
+  out.assign(wanted.begin(), wanted.end());
+  const std::vector<std::int64_t>& ids = frame.ids;
+  std::vector<double> found(wanted.size(), 0);
+  for (std::size_t i = 0; i < wanted.size(); ++i)
   {
-    std::size_t k = 0;
-    while (k < ids.size() && ids[k] != id)
-    {
-      ++k;
-    }
-    if (k == ids.size())
+    found[i] = std::find(ids.begin(), ids.end(), wanted[i]) != ids.end() ? 1 : 0;
+  }
+  double range[2] = {ids.empty() ? HUGE_VAL : double(*std::min_element(ids.begin(), ids.end())),
+                     ids.empty() ? HUGE_VAL : -double(*std::max_element(ids.begin(), ids.end()))};
+  ranks.sum(found.data(), int(found.size()));
+  ranks.min(range, 2);
+  for (std::size_t i = 0; i < wanted.size(); ++i)
+  {
+    if (found[i] == 0)
     {
       std::ostringstream os;
-      os << what << ": strand " << id << " is not in the input (its StrandId values are ";
-      if (!ids.empty())
+      os << what << ": strand " << wanted[i] << " is not in the input (its StrandId values are ";
+      if (range[0] != HUGE_VAL)
       {
-        os << "among " << *std::min_element(ids.begin(), ids.end()) << " … "
-           << *std::max_element(ids.begin(), ids.end());
+        os << "among " << std::int64_t(range[0]) << " … " << std::int64_t(-range[1]);
       }
       os << "): give ids of the input's strands.";
       return hair::Status::Error(os.str());
     }
-    indices.push_back(static_cast<std::int64_t>(k));
   }
   return hair::Status::Ok();
 }
@@ -314,24 +337,23 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
     return 0;
   };
 
-  // Under MPI, Hair Simulation leaves the strands on rank 0 (docs/hair-simulation.md); the
-  // other ranks have nothing to measure.
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetNumberOfProcesses() > 1 && controller->GetLocalProcessId() > 0 &&
-      strands && strands->GetNumberOfPoints() == 0)
+  // Under MPI (pvbatch, pvserver) each rank measures its piece of the strands, the measures
+  // are the whole frame's (reduced over the ranks by hair::StrandAnalysis), the Energy input
+  // is rank 0's, and the table is rank 0's; the ranks stop, fail or go on together.
+  if (!in.HaveRanks)
   {
-    stop();
-    output->Initialize();
-    return 1;
+    in.Ranks = hair::convert::toRanks(vtkMultiProcessController::GetGlobalController());
+    in.HaveRanks = true;
   }
+  const hair::Ranks& ranks = in.Ranks;
+  const bool writer = ranks.rank() == 0;
   if (in.Times.empty())
   {
     return fail(std::string("the input reports no time steps: ") + Source + ".");
   }
 
   hair::StrandsFrame frame;
-  std::vector<vtkIdType> ids;
-  if (hair::Status s = toFrame(strands, frame, ids); !s)
+  if (hair::Status s = ranks.agree(toFrame(strands, frame, ranks.parallel())); !s)
   {
     return fail(s.message());
   }
@@ -340,8 +362,8 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
     in.clear();
     hair::StrandAnalysisOptions o;
     o.vertical = Eigen::Vector3d(this->Vertical);
-    hair::Status s = toIndices(this->TrackedStrands, ids, "Tracked Strands", o.tracked);
-    s = s ? toIndices(this->GroupStrands, ids, "Group", o.group) : s;
+    hair::Status s = toIds(this->TrackedStrands, frame, "Tracked Strands", ranks, o.tracked);
+    s = s ? toIds(this->GroupStrands, frame, "Group", ranks, o.group) : s;
     s = s ? in.Analysis.configure(o) : s;
     if (!s)
     {
@@ -349,21 +371,31 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
     }
   }
   hair::StrandMeasures m;
-  if (hair::Status s = in.Analysis.measure(frame, m); !s)
+  if (hair::Status s = in.Analysis.measure(frame, m, ranks); !s)
   {
     return fail("at t = " + std::to_string(in.Times[in.Current]) + " s: " + s.message());
   }
 
   const double t = in.Times[in.Current];
   in.add("Time", t);
-  // The energy terms: the row of the Energy table at the time of the strands' frame.
-  if (vtkTable* energy = vtkTable::GetData(inputVector[1], 0))
+  // The energy terms: the row of the Energy table at the time of the strands' frame (rank
+  // 0's table; its failure is every rank's).
+  vtkTable* energy = writer ? vtkTable::GetData(inputVector[1], 0) : nullptr;
+  auto energyRow = [&]() -> std::string
   {
+    if (!energy)
+    {
+      if (in.Current > 0 && !in.EnergyNames.empty())
+      {
+        return "the Energy input went away during the loop over time.";
+      }
+      return {};
+    }
     vtkDataArray* times = vtkArrayDownCast<vtkDataArray>(energy->GetColumnByName("Time"));
     if (!times)
     {
-      return fail("the Energy input has no Time column: connect output 1 (Energy) of the "
-                  "same Hair Simulation or Hair State Reader as the Input.");
+      return "the Energy input has no Time column: connect output 1 (Energy) of the "
+             "same Hair Simulation or Hair State Reader as the Input.";
     }
     vtkInformation* dataInfo = strands->GetInformation();
     const double frameTime = dataInfo->Has(vtkDataObject::DATA_TIME_STEP())
@@ -382,7 +414,7 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
       os << "the Energy input has no row at the strands' time " << frameTime
          << " s: connect output 1 (Energy) of the same Hair Simulation or Hair State Reader "
             "as the Input.";
-      return fail(os.str());
+      return os.str();
     }
     if (in.Current == 0)
     {
@@ -400,15 +432,19 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
       vtkDataArray* column = vtkArrayDownCast<vtkDataArray>(energy->GetColumnByName(name.c_str()));
       if (!column)
       {
-        return fail("the Energy input lost its column '" + name + "' at t = " + std::to_string(t) +
-                    " s.");
+        return "the Energy input lost its column '" + name + "' at t = " + std::to_string(t) +
+               " s.";
       }
       in.add(name, column->GetComponent(row, 0));
     }
-  }
-  else if (in.Current > 0 && !in.EnergyNames.empty())
+    return {};
+  };
+  const std::string problem = energyRow();
+  if (hair::Status s =
+          ranks.agree(problem.empty() ? hair::Status::Ok() : hair::Status::Error(problem));
+      !s)
   {
-    return fail("the Energy input went away during the loop over time.");
+    return fail(s.message());
   }
   in.add("mean_tip_x", m.meanTip.x());
   in.add("mean_tip_y", m.meanTip.y());
@@ -438,7 +474,7 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
   ++in.Current;
   const int total = static_cast<int>(in.Times.size());
   this->UpdateProgress(double(in.Current) / total);
-  const bool aborted = this->GetAbortExecute() != 0;
+  const bool aborted = ranks.any(this->GetAbortExecute() != 0);
   if (in.Current < total && !aborted)
   {
     request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
@@ -451,7 +487,7 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
   }
   stop();
   output->Initialize();
-  for (const std::string& name : in.Order)
+  for (const std::string& name : writer ? in.Order : std::vector<std::string>())
   {
     const std::vector<double>& values = in.Columns[name];
     vtkNew<vtkDoubleArray> column;

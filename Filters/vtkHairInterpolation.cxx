@@ -3,11 +3,16 @@
 #include "HairConversion.h"
 #include "render/HairInterpolation.h"
 
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <string>
 #include <vector>
@@ -17,6 +22,10 @@ vtkStandardNewMacro(vtkHairInterpolation);
 struct vtkHairInterpolation::Internals
 {
   hair::HairInterpolation Hair;
+  bool Bound = false; ///< bound (under MPI a rank may have no rendered strand to bind)
+  /// Under MPI, the ranks of ParaView's controller (made at the first request).
+  hair::Ranks Ranks;
+  bool HaveRanks = false;
   // What the binding was made from: rebound when a property, the scalp or the guides as
   // grown change (the guides' curves change every frame and are not part of it).
   vtkMTimeType BoundAt = 0;
@@ -64,6 +73,41 @@ int vtkHairInterpolation::FillInputPortInformation(int port, vtkInformation* inf
   return 1;
 }
 
+int vtkHairInterpolation::RequestInformation(vtkInformation*, vtkInformationVector**,
+                                             vtkInformationVector* outputVector)
+{
+  // Under MPI each rank renders the hair of its piece of the guides.
+  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
+int vtkHairInterpolation::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector,
+                                              vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+                         ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+                         : 1;
+  // The guides: this piece, and under MPI one level of ghost strands (the neighbouring
+  // pieces' guides near this one's); the scalp and the tables: whole, on every rank.
+  if (vtkInformation* guides = inputVector[0]->GetInformationObject(0))
+  {
+    guides->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+                pieces > 1 ? 1 : 0);
+  }
+  for (int port = 1; port < 3; ++port)
+  {
+    for (int i = 0; i < inputVector[port]->GetNumberOfInformationObjects(); ++i)
+    {
+      vtkInformation* in = inputVector[port]->GetInformationObject(i);
+      in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+      in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+      in->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    }
+  }
+  return 1;
+}
+
 namespace
 {
 bool sameRest(const std::vector<hair::GuideStrand>& a, const std::vector<hair::GuideStrand>& b)
@@ -89,16 +133,42 @@ int vtkHairInterpolation::RequestData(vtkInformation*, vtkInformationVector** in
   vtkPolyData* scalpIn = vtkPolyData::GetData(inputVector[1], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
 
+  // Under MPI (pvbatch, pvserver) each rank renders the hair rooted nearest its own guides,
+  // bound among its guides and their ghosts (the neighbouring pieces' guides near its own,
+  // which Hair Simulation adds when asked for a ghost level); every call naming the ranks
+  // is made by every rank.
+  if (!in.HaveRanks)
+  {
+    in.Ranks = hair::convert::toRanks(vtkMultiProcessController::GetGlobalController());
+    in.HaveRanks = true;
+  }
+  const hair::Ranks& ranks = in.Ranks;
   std::vector<hair::GuideStrand> rest;
   hair::GuideCurves curves;
-  if (hair::Status s = hair::convert::toGuideCurves(guidesIn, rest, curves); !s)
+  std::vector<std::uint8_t> ghost;
+  hair::Status converted = hair::Status::Ok();
+  if (!ranks.parallel() || (guidesIn && guidesIn->GetNumberOfLines() > 0))
+  {
+    converted = hair::convert::toGuideCurves(guidesIn, rest, curves);
+    vtkDataArray* ghosts =
+        guidesIn ? guidesIn->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName())
+                 : nullptr;
+    for (std::size_t k = 0; converted && ghosts && k < rest.size(); ++k)
+    {
+      const vtkIdType cell = guidesIn->GetNumberOfVerts() + vtkIdType(k);
+      ghost.push_back(
+          (int(ghosts->GetComponent(cell, 0)) & vtkDataSetAttributes::DUPLICATECELL) ? 1 : 0);
+    }
+  }
+  if (hair::Status s = ranks.agree(converted); !s)
   {
     vtkErrorMacro(<< "Hair Interpolation: input 0 (the guides): " << s.message());
     return 0;
   }
   const vtkMTimeType bindTime = std::max(this->GetMTime(), scalpIn ? scalpIn->GetMTime() : 0);
-  if (!in.Hair.isBound() || bindTime > in.BoundAt || !sameRest(rest, in.Rest))
+  if (ranks.any(!in.Bound || bindTime > in.BoundAt || !sameRest(rest, in.Rest)))
   {
+    in.Bound = false;
     hair::TriangleMesh scalp;
     if (hair::Status s = hair::convert::toTriangleMesh(scalpIn, "input 1 (the scalp)", scalp); !s)
     {
@@ -120,13 +190,19 @@ int vtkHairInterpolation::RequestData(vtkInformation*, vtkInformationVector** in
     o.variation = this->Variation;
     o.seed = static_cast<std::uint32_t>(this->Seed);
     o.threads = this->NumberOfThreads;
-    if (hair::Status s = in.Hair.bind(rest, scalp, o); !s)
+    if (hair::Status s = in.Hair.bind(rest, scalp, o, ghost, ranks); !s)
     {
       vtkErrorMacro(<< "Hair Interpolation: " << s.message());
       return 0;
     }
+    in.Bound = true;
     in.BoundAt = bindTime;
     in.Rest = rest;
+  }
+  if (!in.Hair.isBound())
+  {
+    output->Initialize(); // a rank whose piece roots no rendered hair
+    return 1;
   }
 
   // The tables: those that move with the head posed by the guides' roots.
@@ -181,5 +257,16 @@ int vtkHairInterpolation::RequestData(vtkInformation*, vtkInformationVector** in
     return 0;
   }
   hair::convert::fromRenderedHair(rendered, output);
+  if (ranks.parallel())
+  {
+    // GuideId: the guide's StrandId, not its place in this piece.
+    vtkDataArray* ids = guidesIn->GetCellData()->GetArray("StrandId");
+    vtkDataArray* guide = output->GetCellData()->GetArray("GuideId");
+    for (vtkIdType r = 0; ids && guide && r < guide->GetNumberOfTuples(); ++r)
+    {
+      const vtkIdType cell = guidesIn->GetNumberOfVerts() + vtkIdType(guide->GetComponent(r, 0));
+      guide->SetComponent(r, 0, ids->GetComponent(cell, 0));
+    }
+  }
   return 1;
 }

@@ -16,6 +16,7 @@
 #include <vtkIntArray.h>
 #include <vtkLogger.h>
 #include <vtkMultiProcessController.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
@@ -42,6 +43,10 @@ struct vtkHairSimulation::Internals
   bool Initialized = false;
   vtkMTimeType BuiltAt = 0; ///< max MTime of this filter and its inputs when Sim was built
   std::string Written;      ///< the state file this filter created last (its own to replace)
+  /// Under MPI, the ranks of ParaView's controller (made at the first request, which every
+  /// rank makes); this process alone otherwise.
+  hair::Ranks Ranks;
+  bool HaveRanks = false;
 };
 
 vtkHairSimulation::vtkHairSimulation()
@@ -165,6 +170,8 @@ int vtkHairSimulation::RequestInformation(vtkInformation*, vtkInformationVector*
     vtkInformation* outInfo = outputVector->GetInformationObject(port);
     outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), frames);
     outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+    // Under MPI each rank's output is its piece of the strands (the table is rank 0's).
+    outInfo->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
   }
   return 1;
 }
@@ -192,21 +199,23 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
   Internals& in = *this->Internal;
   vtkPolyData* strandsIn = vtkPolyData::GetData(inputVector[0], 0);
 
-  // Under MPI (pvbatch), rank 0 simulates every strand and writes the state file; the other
-  // ranks hold no strands (one writer per file; splitting strands across ranks is to come).
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (controller && controller->GetNumberOfProcesses() > 1 && controller->GetLocalProcessId() > 0)
+  // Under MPI (pvbatch, pvserver), every rank runs this with the whole inputs; each steps its
+  // share of the strands and outputs it as its piece, and the one state file is written by
+  // all (docs/hair-simulation.md, "Under MPI"). Every call below that names the ranks is
+  // made by every rank.
+  if (!in.HaveRanks)
   {
-    vtkPolyData::GetData(outputVector, 0)->Initialize();
-    vtkTable::GetData(outputVector, 1)->Initialize();
-    return 1;
+    in.Ranks = hair::convert::toRanks(vtkMultiProcessController::GetGlobalController());
+    in.HaveRanks = true;
   }
+  const hair::Ranks& ranks = in.Ranks;
 
   if (!this->CheckProperties())
   {
     return 0;
   }
-  // (Re)build the run when a property or an input changed since it was built.
+  // (Re)build the run when a property or an input changed since it was built (on every rank
+  // if on any: the ranks step together).
   vtkMTimeType mtime = this->GetMTime();
   mtime = std::max(mtime, strandsIn ? strandsIn->GetMTime() : 0);
   for (int i = 0; i < inputVector[1]->GetNumberOfInformationObjects(); ++i)
@@ -214,7 +223,7 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     vtkImageData* t = vtkImageData::GetData(inputVector[1], i);
     mtime = std::max(mtime, t ? t->GetMTime() : 0);
   }
-  if (!in.Initialized || mtime > in.BuiltAt)
+  if (ranks.any(!in.Initialized || mtime > in.BuiltAt))
   {
     in.Initialized = false;
     if (!this->Build(inputVector))
@@ -246,7 +255,7 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
       return 0;
     }
     this->UpdateProgress(double(f - before + 1) / (index - before + 1));
-    if (this->GetAbortExecute())
+    if (ranks.any(this->GetAbortExecute() != 0))
     {
       vtkWarningMacro(<< "Hair Simulation: aborted at t = " << in.Sim.frame(f).time
                       << " s; the frames computed so far are kept.");
@@ -260,9 +269,10 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     vtkErrorMacro(<< "Hair Simulation: " << s.message());
     return 0;
   }
-  // The frame as stored, with the material frame at every point (simulation/GuideDrawing.h).
+  // The frame as stored (this rank's piece under MPI, StrandId the strands' numbers in the
+  // run), with the material frame at every point (simulation/GuideDrawing.h).
   hair::GuideDrawing drawing;
-  if (hair::Status s = hair::drawGuides(in.Sim.header(), frame, 0, this->NumberOfThreads, drawing);
+  if (hair::Status s = hair::drawGuides(in.Sim.piece(), frame, 0, this->NumberOfThreads, drawing);
       !s)
   {
     vtkErrorMacro(<< "Hair Simulation: " << s.message());
@@ -270,14 +280,45 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
   }
   vtkPolyData* strandsOut = vtkPolyData::GetData(outputVector, 0);
   hair::convert::toStrands(drawing, strandsOut);
+  // Ghost levels asked for (Hair Interpolation asks for one): the strands of other ranks
+  // near this rank's, marked as ghost cells, so that a piece is interpolated near its edges
+  // as if the neighbouring pieces were there.
+  int ghostLevels = 0;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS()))
+  {
+    ghostLevels = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS());
+  }
+  ghostLevels = static_cast<int>(ranks.max(double(ghostLevels)));
+  if (ranks.parallel() && ghostLevels > 0)
+  {
+    hair::StateHeader ghostHeader;
+    hair::StateFrame ghostFrame;
+    hair::GuideDrawing ghosts;
+    hair::Status s = in.Sim.ghostFrame(index, ghostLevels, ghostHeader, ghostFrame);
+    s = s ? hair::drawGuides(ghostHeader, ghostFrame, 0, this->NumberOfThreads, ghosts) : s;
+    if (!s)
+    {
+      vtkErrorMacro(<< "Hair Simulation: the ghost strands: " << s.message());
+      return 0;
+    }
+    vtkNew<vtkPolyData> ghostStrands;
+    hair::convert::toStrands(ghosts, ghostStrands);
+    hair::convert::appendGhosts(strandsOut, ghostStrands);
+    strandsOut->GetInformation()->Set(vtkDataObject::DATA_NUMBER_OF_GHOST_LEVELS(), ghostLevels);
+  }
   strandsOut->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
 
-  // Energy and contacts of every frame computed so far.
+  // Energy and contacts of every frame computed so far: the whole run's, on rank 0 (every
+  // rank has them; ParaView appends the ranks' tables).
   std::vector<double> times;
   std::map<std::string, std::vector<double>> columns;
   in.Sim.energyTable(times, columns);
   vtkTable* table = vtkTable::GetData(outputVector, 1);
-  hair::convert::toEnergyTable(times, columns, table);
+  table->Initialize();
+  if (ranks.rank() == 0)
+  {
+    hair::convert::toEnergyTable(times, columns, table);
+  }
   table->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
   return 1;
 }
@@ -327,6 +368,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.timeStep = this->TimeStep;
   o.frameInterval = 1.0 / this->FrameRate;
   o.threads = this->NumberOfThreads;
+  o.ranks = in.Ranks;
   hair::SuperHelixOptions& sh = o.superHelix;
   sh.pointsPerElement = this->PointsPerElement;
   sh.quadratureTolerance = this->QuadratureTolerance;

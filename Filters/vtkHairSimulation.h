@@ -183,7 +183,7 @@ protected:
   double FrictionCoefficient = 0.3; ///< μ
   double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
   double ContactThickness = 1e-3;   ///< m
-  bool HairHairContacts = true;
+  bool HairHairContacts = false;
   double HairContactThickness = 0;      ///< m, radius of the clump a guide stands for; 0: auto
   double HairContactStiffness = 1;      ///< N/m per contact
   double HairContactDamping = 2e-4;     ///< N·s/m

@@ -72,6 +72,11 @@ int vtkHairStateReader::RequestInformation(vtkInformation*, vtkInformationVector
     const double range[2] = {times.front(), times.back()};
     outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
   }
+  // Under MPI each rank reads its piece of the strands (the energy table is piece 0's).
+  for (int port = 0; port < 2; ++port)
+  {
+    outputVector->GetInformationObject(port)->Set(vtkAlgorithm::CAN_HANDLE_PIECE_REQUEST(), 1);
+  }
   return 1;
 }
 
@@ -104,15 +109,34 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
     const auto it = std::upper_bound(times.begin(), times.end(), t + 1e-12 * (1 + std::abs(t)));
     frame = std::max<std::int64_t>(0, (it - times.begin()) - 1);
   }
-  hair::StateFrame state;
-  if (hair::Status s = reader.readFrame(frame, state); !s)
+  // The piece asked for (ParaView's piece requests: under MPI, piece = rank of ranks).
+  int piece = 0, pieces = 1;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
   {
-    vtkErrorMacro(<< "Hair State Reader: " << s.message());
+    pieces = std::max(1, outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()));
+    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+  }
+  hair::StateFrame state;
+  hair::StateHeader header;
+  hair::Status read = hair::Status::Ok();
+  if (pieces == 1)
+  {
+    header = reader.header();
+    read = reader.readFrame(frame, state);
+  }
+  else
+  {
+    const std::vector<std::int64_t> mine = reader.pieceStrands(piece, pieces);
+    header = reader.header().piece(mine);
+    read = reader.readPiece(frame, mine, state);
+  }
+  if (!read)
+  {
+    vtkErrorMacro(<< "Hair State Reader: " << read.message());
     return 0;
   }
   hair::GuideDrawing drawing;
-  if (hair::Status s = hair::drawGuides(reader.header(), state, this->PointsPerElement, 1, drawing);
-      !s)
+  if (hair::Status s = hair::drawGuides(header, state, this->PointsPerElement, 1, drawing); !s)
   {
     vtkErrorMacro(<< "Hair State Reader: '" << this->FileName << "': " << s.message());
     return 0;
@@ -125,7 +149,11 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
   this->Internal->Warned = drawing.warning;
   this->Internal->WarnedFile = this->FileName;
   hair::convert::toStrands(drawing, strands);
-  hair::convert::toEnergyTable(times, reader.energies(), energy);
+  energy->Initialize();
+  if (piece == 0)
+  {
+    hair::convert::toEnergyTable(times, reader.energies(), energy);
+  }
   strands->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
   return 1;
 }

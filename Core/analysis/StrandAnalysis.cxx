@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace hair
@@ -62,11 +63,21 @@ std::vector<std::size_t> convexHull(const std::vector<Eigen::Vector2d>& p)
 }
 } // namespace
 
-Status StrandsFrame::validate() const
+Status StrandsFrame::validate(bool empty) const
 {
+  if (empty && offsets.size() <= 1 && positions.empty() && curvature.empty() && twist.empty() &&
+      contactDepth.empty() && ids.empty())
+  {
+    return Status::Ok();
+  }
   if (offsets.size() < 2)
   {
     return Status::Error("the frame has no strand (offsets hold fewer than two values).");
+  }
+  if (!ids.empty() && ids.size() != numberOfStrands())
+  {
+    return Status::Error("the frame has " + std::to_string(ids.size()) + " strand numbers for " +
+                         std::to_string(numberOfStrands()) + " strands.");
   }
   if (offsets.front() != 0)
   {
@@ -110,6 +121,25 @@ Status StrandsFrame::validate() const
   return Status::Ok();
 }
 
+namespace
+{
+/// The points whose projections on the plane perpendicular to `vertical` are the vertices of
+/// the projections' convex hull (all of them for fewer than three).
+std::vector<std::size_t> horizontalHull(const std::vector<Eigen::Vector3d>& points,
+                                        const Eigen::Vector3d& vertical)
+{
+  const Eigen::Vector3d up = vertical.normalized();
+  const Eigen::Vector3d e1 = up.unitOrthogonal();
+  const Eigen::Vector3d e2 = up.cross(e1);
+  std::vector<Eigen::Vector2d> plane(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    plane[i] = Eigen::Vector2d(points[i].dot(e1), points[i].dot(e2));
+  }
+  return convexHull(plane);
+}
+} // namespace
+
 double horizontalDiameter(const std::vector<Eigen::Vector3d>& points,
                           const Eigen::Vector3d& vertical)
 {
@@ -118,17 +148,13 @@ double horizontalDiameter(const std::vector<Eigen::Vector3d>& points,
     return 0;
   }
   const Eigen::Vector3d up = vertical.normalized();
-  // The projections, in 3-D (for the distances) and in a basis of the plane (for the hull).
-  const Eigen::Vector3d e1 = up.unitOrthogonal();
-  const Eigen::Vector3d e2 = up.cross(e1);
+  // The projections, in 3-D (for the distances); the hull in a basis of the plane.
   std::vector<Eigen::Vector3d> flat(points.size());
-  std::vector<Eigen::Vector2d> plane(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     flat[i] = points[i] - points[i].dot(up) * up;
-    plane[i] = Eigen::Vector2d(points[i].dot(e1), points[i].dot(e2));
   }
-  const std::vector<std::size_t> hull = convexHull(plane);
+  const std::vector<std::size_t> hull = horizontalHull(points, vertical);
   // Every pair of hull vertices: the hull of a group of tips has few vertices.
   double widest = 0;
   for (std::size_t a = 0; a < hull.size(); ++a)
@@ -172,30 +198,55 @@ Status StrandAnalysis::configure(const StrandAnalysisOptions& options)
   return Status::Ok();
 }
 
-Status StrandAnalysis::measure(const StrandsFrame& frame, StrandMeasures& out)
+Status StrandAnalysis::measure(const StrandsFrame& frame, StrandMeasures& out, const Ranks& ranks)
 {
-  if (Status s = frame.validate(); !s)
-  {
-    return s;
-  }
+  const bool shared = ranks.parallel();
+  Status s = frame.validate(shared);
   const std::size_t strands = frame.numberOfStrands();
-  for (const auto* list : {&Options.tracked, &Options.group})
+  // Where each named strand is in this frame (−1: not here; under MPI, another rank's).
+  std::map<std::int64_t, std::int64_t> indexOf;
+  for (std::size_t k = 0; s && k < strands; ++k)
   {
-    for (std::int64_t k : *list)
+    indexOf[frame.id(k)] = std::int64_t(k);
+  }
+  auto where = [&](const std::vector<std::int64_t>& named)
+  {
+    std::vector<std::int64_t> at;
+    for (std::int64_t id : named)
     {
-      if (static_cast<std::size_t>(k) >= strands)
+      const auto it = indexOf.find(id);
+      at.push_back(it == indexOf.end() ? -1 : it->second);
+    }
+    return at;
+  };
+  const std::vector<std::int64_t> tracked = where(Options.tracked), group = where(Options.group);
+  if (s && !shared)
+  {
+    for (const auto* list : {&Options.tracked, &Options.group})
+    {
+      for (std::int64_t id : *list)
       {
-        return Status::Error("strand " + std::to_string(k) +
-                             " does not exist: the strands are 0 … " + std::to_string(strands - 1) +
-                             ".");
+        if (s && !indexOf.count(id))
+        {
+          s = Status::Error("strand " + std::to_string(id) + " does not exist: the strands are " +
+                            (frame.ids.empty()
+                                 ? "0 … " + std::to_string(strands - 1)
+                                 : "numbered " + std::to_string(indexOf.begin()->first) + " … " +
+                                       std::to_string(indexOf.rbegin()->first)) +
+                            ".");
+        }
       }
     }
   }
-  if (!ReferenceTips.empty() && ReferenceTips.size() != strands)
+  if (s && !ReferenceTips.empty() && ReferenceTips.size() != strands)
   {
-    return Status::Error("the frame has " + std::to_string(strands) +
-                         " strands, the first frame had " + std::to_string(ReferenceTips.size()) +
-                         ": the strands must stay the same over time.");
+    s = Status::Error("the frame has " + std::to_string(strands) +
+                      " strands, the first frame had " + std::to_string(ReferenceTips.size()) +
+                      ": the strands must stay the same over time.");
+  }
+  if (Status agreed = ranks.agree(s); !agreed)
+  {
+    return agreed;
   }
   std::vector<Eigen::Vector3d> tips(strands);
   for (std::size_t k = 0; k < strands; ++k)
@@ -220,26 +271,6 @@ Status StrandAnalysis::measure(const StrandsFrame& frame, StrandMeasures& out)
     out.maxTipDisplacement = std::max(out.maxTipDisplacement, displacement);
     displacementSum += displacement;
   }
-  out.meanTip /= double(strands);
-  out.meanDeflection = deflectionSum / double(strands);
-  out.meanTipDisplacement = displacementSum / double(strands);
-  for (std::int64_t k : Options.tracked)
-  {
-    out.trackedTips.push_back(tips[k]);
-  }
-  if (Options.group.empty())
-  {
-    out.span = horizontalDiameter(tips, Options.vertical);
-  }
-  else
-  {
-    std::vector<Eigen::Vector3d> group;
-    for (std::int64_t k : Options.group)
-    {
-      group.push_back(tips[k]);
-    }
-    out.span = horizontalDiameter(group, Options.vertical);
-  }
   for (std::size_t i = 0; i < frame.positions.size(); ++i)
   {
     out.maxCurvature = std::max(out.maxCurvature, std::abs(frame.curvature[i]));
@@ -250,6 +281,95 @@ Status StrandAnalysis::measure(const StrandsFrame& frame, StrandMeasures& out)
       out.maxContactDepth = std::max(out.maxContactDepth, frame.contactDepth[i]);
     }
   }
+  std::vector<Eigen::Vector3d> groupTips;
+  if (Options.group.empty())
+  {
+    groupTips = tips;
+  }
+  else
+  {
+    for (std::int64_t k : group)
+    {
+      if (k >= 0)
+      {
+        groupTips.push_back(tips[k]);
+      }
+    }
+  }
+  double count = double(strands);
+  for (std::int64_t k : tracked)
+  {
+    out.trackedTips.push_back(k >= 0 ? tips[k] : Eigen::Vector3d::Zero());
+  }
+  if (shared)
+  {
+    // Sums (strands, tips, deflections, displacements, contacts, and each tracked strand's
+    // tip with a count of the ranks that have it), maxima, and every piece's hull vertices.
+    std::vector<double> sums{count,         out.meanTip.x(), out.meanTip.y(),     out.meanTip.z(),
+                             deflectionSum, displacementSum, double(out.contacts)};
+    for (std::size_t i = 0; i < tracked.size(); ++i)
+    {
+      sums.push_back(tracked[i] >= 0 ? 1 : 0);
+      sums.insert(sums.end(), out.trackedTips[i].data(), out.trackedTips[i].data() + 3);
+    }
+    std::vector<double> found(group.size());
+    for (std::size_t i = 0; i < group.size(); ++i)
+    {
+      found[i] = group[i] >= 0 ? 1 : 0;
+    }
+    sums.insert(sums.end(), found.begin(), found.end());
+    ranks.sum(sums.data(), int(sums.size()));
+    double maxima[5] = {out.maxDeflection, out.maxTipDisplacement, out.maxCurvature, out.maxTwist,
+                        out.maxContactDepth};
+    ranks.max(maxima, 5);
+    std::vector<double> hull;
+    for (std::size_t i : horizontalHull(groupTips, Options.vertical))
+    {
+      hull.insert(hull.end(), groupTips[i].data(), groupTips[i].data() + 3);
+    }
+    const std::vector<double> all = ranks.gather(hull);
+    groupTips.assign(all.size() / 3, Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < groupTips.size(); ++i)
+    {
+      groupTips[i] = Eigen::Vector3d(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
+    }
+    count = sums[0];
+    out.meanTip = Eigen::Vector3d(sums[1], sums[2], sums[3]);
+    deflectionSum = sums[4];
+    displacementSum = sums[5];
+    out.contacts = std::int64_t(std::llround(sums[6]));
+    std::size_t at = 7;
+    for (std::size_t i = 0; i < tracked.size(); ++i, at += 4)
+    {
+      if (sums[at] != 1)
+      {
+        return Status::Error("strand " + std::to_string(Options.tracked[i]) +
+                             " is not in the frame (in no rank's piece).");
+      }
+      out.trackedTips[i] = Eigen::Vector3d(sums[at + 1], sums[at + 2], sums[at + 3]);
+    }
+    for (std::size_t i = 0; i < group.size(); ++i, ++at)
+    {
+      if (sums[at] != 1)
+      {
+        return Status::Error("strand " + std::to_string(Options.group[i]) +
+                             " is not in the frame (in no rank's piece).");
+      }
+    }
+    if (count == 0)
+    {
+      return Status::Error("the frame has no strand on any rank.");
+    }
+    out.maxDeflection = maxima[0];
+    out.maxTipDisplacement = maxima[1];
+    out.maxCurvature = maxima[2];
+    out.maxTwist = maxima[3];
+    out.maxContactDepth = maxima[4];
+  }
+  out.meanTip /= count;
+  out.meanDeflection = deflectionSum / count;
+  out.meanTipDisplacement = displacementSum / count;
+  out.span = horizontalDiameter(groupTips, Options.vertical);
   return Status::Ok();
 }
 

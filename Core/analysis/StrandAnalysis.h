@@ -3,6 +3,7 @@
 // of tips, extreme curvature and twist, the tips' lateral deflection and displacement, and
 // contacts. Plain arrays in, numbers out; the definitions (and units) are documented in
 // docs/hair-analysis.md, which scripts and the Hair Analysis filter's columns rely on.
+#include "common/Ranks.h"
 #include "common/Status.h"
 
 #include <Eigen/Core>
@@ -22,11 +23,16 @@ struct StrandsFrame
   std::vector<double> curvature;          ///< 1/m, one per point
   std::vector<double> twist;              ///< 1/m, one per point (signed)
   std::vector<double> contactDepth;       ///< m inside a body part, 0 outside; one per point
+  /// Each strand's number (the pipeline's StrandId), by which options name strands; empty:
+  /// 0 … S − 1. Under MPI a frame is one rank's piece, and its strands' numbers are the run's.
+  std::vector<std::int64_t> ids;
 
   std::size_t numberOfStrands() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::int64_t id(std::size_t k) const { return ids.empty() ? std::int64_t(k) : ids[k]; }
   /// Refuses offsets that do not start at 0, decrease, leave a strand with fewer than two
-  /// points or disagree with the arrays' lengths, and non-finite values.
-  Status validate() const;
+  /// points or disagree with the arrays' lengths, and non-finite values; `empty` allows a
+  /// frame without strands (a rank's piece under MPI).
+  Status validate(bool empty = false) const;
 };
 
 struct StrandAnalysisOptions
@@ -34,9 +40,10 @@ struct StrandAnalysisOptions
   /// Up (against gravity). The span and the lateral deflection are measured in the plane
   /// perpendicular to it. Need not be unit; must not be zero.
   Eigen::Vector3d vertical{0, 1, 0};
-  /// Strands whose tips are reported one by one (indices into the frame's strands).
+  /// Strands whose tips are reported one by one (by number: StrandsFrame::ids, or their
+  /// indices when the frame has none).
   std::vector<std::int64_t> tracked;
-  /// Strands whose span is measured (indices); empty: every strand.
+  /// Strands whose span is measured (by number); empty: every strand.
   std::vector<std::int64_t> group;
 };
 
@@ -74,9 +81,16 @@ class StrandAnalysis
 public:
   /// Checks the options (a non-zero vertical, no negative index) and forgets any reference.
   Status configure(const StrandAnalysisOptions& options);
-  /// Measures `frame`. Refuses an invalid frame, tracked or group indices beyond its
-  /// strands, and a frame whose number of strands differs from the reference frame's.
-  Status measure(const StrandsFrame& frame, StrandMeasures& out);
+  /// Measures `frame`. Refuses an invalid frame, tracked or group strands it does not have,
+  /// and a frame whose number of strands differs from the reference frame's.
+  ///
+  /// Under MPI (`ranks` of more than one rank; collective), `frame` is this rank's piece of
+  /// the strands (possibly none) and `out` the whole frame's measures on every rank: sums,
+  /// counts and maxima reduced over the ranks, a tracked tip from the rank that has it, and
+  /// the span from every piece's hull vertices (a farthest pair of the whole group is a pair
+  /// of its hull's vertices, each a vertex of its own piece's hull). A refusal on one rank
+  /// is every rank's.
+  Status measure(const StrandsFrame& frame, StrandMeasures& out, const Ranks& ranks = Ranks());
   /// Forgets the reference frame: the next frame measured becomes it.
   void restart() { ReferenceTips.clear(); }
 

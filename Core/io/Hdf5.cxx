@@ -276,21 +276,23 @@ bool linkNames(hid_t group, std::vector<std::string>& names)
 
 // ---- Datasets ---------------------------------------------------------------------------
 
-bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data)
+bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data,
+                bool write)
 {
   Handle space(H5Screate_simple(1, &count, nullptr));
   Handle d(H5Dcreate2(parent, name, type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-  return d.valid() && H5Dwrite(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+  return d.valid() && (!write || H5Dwrite(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
 }
 
-bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data)
+bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data,
+               bool write)
 {
   const hsize_t dims[2] = {rows, columns};
   Handle space(H5Screate_simple(2, dims, nullptr));
   Handle d(H5Dcreate2(parent, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, H5P_DEFAULT,
                       H5P_DEFAULT));
   return d.valid() &&
-         H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+         (!write || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
 }
 
 Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape)
@@ -359,6 +361,89 @@ bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data)
   Handle memSpace(H5Screate_simple(rank, count.data(), nullptr));
   return H5Dread(dataset, H5T_NATIVE_DOUBLE, memSpace.get(), fileSpace.get(), H5P_DEFAULT,
                  data.data()) >= 0;
+}
+
+Handle createFixed(hid_t parent, const char* name, hsize_t frames,
+                   const std::vector<hsize_t>& frameShape, bool fill)
+{
+  std::vector<hsize_t> dims{frames};
+  dims.insert(dims.end(), frameShape.begin(), frameShape.end());
+  Handle space(H5Screate_simple(int(dims.size()), dims.data(), nullptr));
+  Handle props(H5Pcreate(H5P_DATASET_CREATE));
+  H5Pset_layout(props.get(), H5D_CONTIGUOUS);
+  H5Pset_alloc_time(props.get(), H5D_ALLOC_TIME_EARLY);
+  // No times in the object header: nothing there to change after it is created.
+  H5Pset_obj_track_times(props.get(), 0);
+  if (fill)
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    H5Pset_fill_value(props.get(), H5T_NATIVE_DOUBLE, &nan);
+    H5Pset_fill_time(props.get(), H5D_FILL_TIME_ALLOC);
+  }
+  else
+  {
+    H5Pset_fill_time(props.get(), H5D_FILL_TIME_NEVER);
+  }
+  return Handle(H5Dcreate2(parent, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, props.get(),
+                           H5P_DEFAULT));
+}
+
+bool RowSelection::build(hid_t dataset, const Runs& runs)
+{
+  file = Handle(H5Dget_space(dataset));
+  const int rank = H5Sget_simple_extent_ndims(file.get());
+  if (rank < 2)
+  {
+    return false;
+  }
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(file.get(), dims.data(), nullptr);
+  hsize_t perRow = 1;
+  for (int k = 2; k < rank; ++k)
+  {
+    perRow *= dims[k];
+  }
+  Rows = runs;
+  values = 0;
+  for (const auto& run : runs)
+  {
+    values += run.second * perRow;
+  }
+  const hsize_t n = std::max<hsize_t>(values, 1);
+  memory = Handle(H5Screate_simple(1, &n, nullptr));
+  if (values == 0)
+  {
+    H5Sselect_none(memory.get());
+  }
+  return file.valid() && memory.valid() && select(0);
+}
+
+bool RowSelection::moveToFrame(hsize_t t)
+{
+  return t == Frame || select(t);
+}
+
+bool RowSelection::select(hsize_t t)
+{
+  const int rank = H5Sget_simple_extent_ndims(file.get());
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(file.get(), dims.data(), nullptr);
+  H5Sselect_none(file.get());
+  std::vector<hsize_t> start(rank, 0), count = dims;
+  start[0] = t;
+  count[0] = 1;
+  for (const auto& [first, rows] : Rows)
+  {
+    start[1] = first;
+    count[1] = rows;
+    if (H5Sselect_hyperslab(file.get(), H5S_SELECT_OR, start.data(), nullptr, count.data(),
+                            nullptr) < 0)
+    {
+      return false;
+    }
+  }
+  Frame = t;
+  return true;
 }
 
 bool readFirst(hid_t dataset, hsize_t count, double* data)

@@ -85,11 +85,15 @@ bool linkNames(hid_t group, std::vector<std::string>& names);
 
 // ---- Datasets ---------------------------------------------------------------------------
 
-/// Creates a 1-D dataset of `count` values of `type` and writes them. False if either fails.
-bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data);
+/// Creates a 1-D dataset of `count` values of `type` and writes them (`write` false: only
+/// creates it; in a file several MPI ranks create together, one writes). False if either
+/// fails.
+bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const void* data,
+                bool write = true);
 
 /// Creates a 2-D dataset of `rows` × `columns` doubles (row-major) and writes them.
-bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data);
+bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data,
+               bool write = true);
 
 /// A dataset of doubles that grows by one frame along its first dimension, each frame
 /// shaped `frameShape` (empty: one scalar per frame).
@@ -100,6 +104,36 @@ bool appendSlab(hid_t dataset, hsize_t t, const double* data);
 
 /// Reads frame t of a dataset of frames (all but the first dimension, flattened).
 bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data);
+
+/// A dataset of doubles with room for `frames` frames from the start, each shaped
+/// `frameShape` (empty: one scalar per frame), stored contiguously and allocated when it is
+/// created: writing a frame then writes its raw data only, never the file's structure
+/// (what the state file written by several ranks relies on, docs/state-file.md). `fill`:
+/// the file holds NaN where no frame was written (set for small datasets; writing it costs
+/// the whole dataset once); else whatever the disk had (zeros on a new file).
+Handle createFixed(hid_t parent, const char* name, hsize_t frames,
+                   const std::vector<hsize_t>& frameShape, bool fill);
+
+/// Runs of consecutive rows of a dataset's second dimension: (first row, row count).
+using Runs = std::vector<std::pair<hsize_t, hsize_t>>;
+
+/// The file space of `dataset` ([T, N, …]) with frame t's rows `runs` selected, whole in
+/// the other dimensions (no runs: nothing selected), and a memory space of as many values,
+/// contiguous. Built for frame 0, selected again for another frame by moveToFrame (HDF5
+/// 1.10's H5Soffset_simple would do it in one call, but its collective MPI-IO writes ignore
+/// the offset: every frame landed on frame 0).
+struct RowSelection
+{
+  Handle file, memory;
+  hsize_t values = 0;
+  bool build(hid_t dataset, const Runs& runs);
+  bool moveToFrame(hsize_t t);
+
+private:
+  Runs Rows;
+  hsize_t Frame = 0;
+  bool select(hsize_t t);
+};
 
 /// Reads the first `count` values of a 1-D dataset as doubles.
 bool readFirst(hid_t dataset, hsize_t count, double* data);

@@ -3,11 +3,47 @@
 // names in StateFormat.h.
 #include "io/StateFile.h"
 
+#include <algorithm>
+#include <functional>
+
 namespace hair
 {
 
 const char* const RequiredEnergyTerms[5] = {"kinetic", "elastic", "gravitational", "dissipated",
                                             "external_work"};
+
+StateHeader StateHeader::piece(const std::vector<std::int64_t>& ids) const
+{
+  StateHeader p;
+  p.model = model;
+  p.coordinatesPerStrand = coordinatesPerStrand;
+  p.rootFrames = rootFrames;
+  p.attributes = attributes;
+  p.pointData = pointData;
+  p.strandIds = ids;
+  p.offsets.assign(1, 0);
+  for (std::int64_t k : ids)
+  {
+    p.offsets.push_back(p.offsets.back() + offsets[k + 1] - offsets[k]);
+  }
+  for (const auto& [name, values] : strandParameters)
+  {
+    std::vector<double>& mine = p.strandParameters[name];
+    for (std::int64_t k : ids)
+    {
+      mine.push_back(values[k]);
+    }
+  }
+  for (const auto& [name, values] : strandVectors)
+  {
+    std::vector<Eigen::Vector3d>& mine = p.strandVectors[name];
+    for (std::int64_t k : ids)
+    {
+      mine.push_back(values[k]);
+    }
+  }
+  return p;
+}
 
 Status StateHeader::validate() const
 {
@@ -22,6 +58,12 @@ Status StateHeader::validate() const
     {
       return Status::Error("strand " + std::to_string(k - 1) + " has no points in the state.");
     }
+  }
+  if (!strandIds.empty() &&
+      (strandIds.size() != numberOfStrands() ||
+       !std::is_sorted(strandIds.begin(), strandIds.end(), std::less_equal<std::int64_t>())))
+  {
+    return Status::Error("the strand numbers of a piece must be one per strand, increasing.");
   }
   if (coordinatesPerStrand < 0)
   {

@@ -2,6 +2,7 @@
 // The HDF5 state file: every frame of a simulation, readable without the plugin (h5py).
 // Layout and guarantees are documented in docs/state-file.md; the names here are the
 // interface that scripts depend on.
+#include "common/Ranks.h"
 #include "common/Status.h"
 
 #include <Eigen/Core>
@@ -55,9 +56,21 @@ struct StateHeader
   std::vector<std::string> pointData;
   /// The groom and rest shape (optional).
   StateGroom groom;
+  /// For a piece of a run (the strands one MPI rank holds, piece()): the run's number of
+  /// each strand described here, increasing. Empty: every strand of the run, 0 … S − 1.
+  std::vector<std::int64_t> strandIds;
 
   std::size_t numberOfStrands() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t numberOfPoints() const { return offsets.empty() ? 0 : std::size_t(offsets.back()); }
+  /// The run's number of strand k of this header.
+  std::int64_t strandId(std::size_t k) const
+  {
+    return strandIds.empty() ? std::int64_t(k) : strandIds[k];
+  }
+  /// The header of the strands `ids` of this one (increasing, each < numberOfStrands(); of
+  /// a whole run's header): their offsets counted from 0, their parameters and vectors,
+  /// and `strandIds` = ids. No strand gives offsets {0}.
+  StateHeader piece(const std::vector<std::int64_t>& ids) const;
   Status validate() const;
 };
 
@@ -85,10 +98,26 @@ inline constexpr int RootVelocityValues = 6;
 /// The energy terms every state file has.
 extern const char* const RequiredEnergyTerms[5];
 
-/// Writes a state file frame by frame. Each frame is flushed before append() returns, and
-/// the file is written in HDF5's single-writer/multiple-reader mode, so a run killed at any
-/// moment (even SIGKILL) leaves a file that reads back up to its last whole frame, and a
-/// reader can follow a run while it is written.
+/// How the MPI ranks of a run share one state file (StateFileWriter::create).
+struct FileSharing
+{
+  Ranks ranks; ///< the ranks that write it together (one rank: not shared)
+  /// This rank's strands, increasing: its piece of every frame (its hyperslab).
+  std::vector<std::int64_t> strands;
+  /// The frames the run will have, frame 0 included: the room every per-frame dataset gets
+  /// when the file is created.
+  std::int64_t frames = 0;
+  bool shared() const { return ranks.parallel(); }
+};
+
+/// Writes a state file frame by frame, so that a run killed at any moment (even SIGKILL)
+/// leaves a file that reads back up to its last whole frame and a reader can follow a run
+/// while it is written. Written by one process (format_version 1): HDF5's
+/// single-writer/multiple-reader mode, each frame flushed before append() returns. Shared by
+/// the MPI ranks of a run (format_version 2, docs/state-file.md): one file written together
+/// with parallel HDF5, every rank its piece; the file's structure is complete and on disk
+/// once create() returns, a frame writes raw data only, and the count of whole frames is
+/// written after every rank's part of the frame is.
 class StateFileWriter
 {
 public:
@@ -107,10 +136,19 @@ public:
   /// five that frames will carry. Never writes over something that is not a HairDynamics
   /// state file (a user's notes, another program's HDF5 file), nor over a state file unless
   /// `existing` says so, nor over one another run is writing: each refused with a message.
+  /// Shared (sharing.shared()): collective; `header` is the whole run's (every rank gives
+  /// the same) and `sharing` says which strands this rank writes.
   Status create(const std::string& path, const StateHeader& header,
                 const std::vector<std::string>& extraEnergyTerms = {},
-                Existing existing = Existing::Refuse);
+                Existing existing = Existing::Refuse, const FileSharing& sharing = {});
+  /// Appends the next frame. Shared: collective, `frame` is this rank's piece (its strands'
+  /// points, q, roots and per-point arrays; its time and energy the same on every rank), and
+  /// a frame one rank refuses (NaN, wrong sizes) or fails to write is refused on every rank.
   Status append(const StateFrame& frame);
+  /// Shared files: collective, this rank's piece of whole frame `index`, read from the file
+  /// being written (a run too long for memory reads released frames back).
+  Status readPiece(std::int64_t index, StateFrame& frame) const;
+  bool shared() const;
   Status close();
   bool isOpen() const;
   std::int64_t numberOfFrames() const;
@@ -140,6 +178,19 @@ public:
   /// Every frame's value of each energy term.
   const std::map<std::string, std::vector<double>>& energies() const;
   Status readFrame(std::int64_t index, StateFrame& frame) const;
+  /// The strands `strands` (increasing) of frame `index`: their points, q, roots and
+  /// per-point arrays, as readFrame gives them for header().piece(strands); its time and
+  /// energy. What a rank reads of a file's frame under MPI.
+  Status readPiece(std::int64_t index, const std::vector<std::int64_t>& strands,
+                   StateFrame& frame) const;
+  /// The file's format_version (1: one writer; 2: written by several MPI ranks together).
+  int version() const;
+  /// The strands of piece `piece` of `pieces` (increasing): when the file has the guides'
+  /// rest roots (/strands/rest_root), a compact patch of them, every piece as many strands
+  /// to within one (recursive coordinate bisection, common/Partition.h); otherwise a run of
+  /// consecutive strands. Every strand is in exactly one piece; a piece may be empty when
+  /// there are fewer strands than pieces.
+  std::vector<std::int64_t> pieceStrands(int piece, int pieces) const;
 
 private:
   struct Impl;

@@ -2,6 +2,7 @@
 // with a message that says what is wrong, then reads frames on demand.
 #include "io/StateFile.h"
 
+#include "common/Partition.h"
 #include "io/CheckedReadDriver.h"
 #include "io/Hdf5.h"
 #include "io/StateFormat.h"
@@ -39,6 +40,7 @@ constexpr double MaxCompression = 1032;
 struct Contents
 {
   Handle File;
+  int Version = 0;
   StateHeader Header;
   std::int64_t Frames = 0;
   std::vector<double> Times;
@@ -143,8 +145,9 @@ Status openFile(const std::string& path, Handle& file)
   return Status::Ok();
 }
 
-/// The root's format and format_version attributes.
-Status checkFormat(hid_t f)
+/// The root's format and format_version attributes (version 1, or 2: written by several
+/// MPI ranks).
+Status checkFormat(hid_t f, int& version)
 {
   std::string format;
   if (Status s = readStringAttribute(f, sf::FormatAttribute, format); !s || format != sf::Name)
@@ -154,15 +157,16 @@ Status checkFormat(hid_t f)
                          sf::FormatAttribute + " = \"" + sf::Name + "\"; " +
                          (s ? "it is \"" + format + "\"" : s.message()) + ").");
   }
-  int version = 0;
+  version = 0;
   if (Status s = readIntAttribute(f, sf::VersionAttribute, version); !s)
   {
     return damaged(s.message() + " (the format version, one integer).");
   }
-  if (version != sf::Version)
+  if (version != sf::Version && version != sf::SharedVersion)
   {
     return Status::Error("has state-file format version " + std::to_string(version) +
-                         "; this HairDynamics reads version " + std::to_string(sf::Version) + ".");
+                         "; this HairDynamics reads versions " + std::to_string(sf::Version) +
+                         " and " + std::to_string(sf::SharedVersion) + ".");
   }
   return Status::Ok();
 }
@@ -414,10 +418,11 @@ Status readHeader(const Contents& c, hid_t f, hid_t offsets, StateHeader& header
   return Status::Ok();
 }
 
-/// Whole frames: the length of /time, written last in every frame. Its values must be
-/// finite and increasing; positions and velocities must hold at least as many frames, of the
-/// header's points.
-Status readTimes(Contents& c, const FixedDatasets& d)
+/// Whole frames: version 1, the length of /time, written last in every frame; version 2,
+/// /whole_frames, written once every rank's part of a frame is (/time is as long as the run).
+/// The times of the whole frames must be finite and increasing; positions and velocities must
+/// hold at least as many frames, of the header's points.
+Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
 {
   DatasetInfo time, positions, velocities;
   if (!describe(d.Time.get(), time) || !describe(d.Positions.get(), positions) ||
@@ -430,6 +435,32 @@ Status readTimes(Contents& c, const FixedDatasets& d)
   if (Status s = checkBytes(c, sf::Time, time, double(c.Frames)); !s)
   {
     return s;
+  }
+  if (c.Version == sf::SharedVersion)
+  {
+    // Version 2: /time is as long as the run from the start; /whole_frames, one int64
+    // written once every rank's part of a frame is, counts the whole frames.
+    if (H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) <= 0)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is missing (format version 2 counts its " +
+                     "whole frames there).");
+    }
+    Handle whole(H5Dopen2(f, sf::WholeFrames, H5P_DEFAULT));
+    DatasetInfo count;
+    if (!whole.valid() || !describe(whole.get(), count) || count.typeClass != H5T_INTEGER ||
+        !count.dims.empty() ||
+        H5Sget_simple_extent_type(Handle(H5Dget_space(whole.get())).get()) != H5S_SCALAR)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is not one integer (a scalar dataset).");
+    }
+    std::int64_t n = -1;
+    if (!readWhole(whole.get(), H5T_NATIVE_INT64, &n) || n < 0 || n > c.Frames)
+    {
+      return damaged(std::string(sf::WholeFrames) + " is " + std::to_string(n) +
+                     ", not a count of whole frames between 0 and the length of " + sf::Time +
+                     ", " + std::to_string(c.Frames) + ".");
+    }
+    c.Frames = n;
   }
   const hsize_t points = c.Header.numberOfPoints();
   if (Status s = checkFrames(c, sf::Positions, positions, {points, 3}); !s)
@@ -604,7 +635,7 @@ Status readFile(const std::string& path, Contents& c)
     return s;
   }
   const hid_t f = c.File.get();
-  if (Status s = checkFormat(f); !s)
+  if (Status s = checkFormat(f, c.Version); !s)
   {
     return s;
   }
@@ -631,7 +662,7 @@ Status readFile(const std::string& path, Contents& c)
   }
   if (s)
   {
-    s = readTimes(c, d);
+    s = readTimes(c, f, d);
   }
   if (s)
   {
@@ -703,6 +734,91 @@ Status StateFileReader::open(const std::string& path)
     return fail(result.message());
   }
   P = std::move(r);
+  return Status::Ok();
+}
+
+int StateFileReader::version() const
+{
+  return P->Version;
+}
+
+std::vector<std::int64_t> StateFileReader::pieceStrands(int piece, int pieces) const
+{
+  const std::size_t strands = P->Header.numberOfStrands();
+  std::vector<std::int64_t> mine;
+  if (pieces <= 1)
+  {
+    for (std::size_t k = 0; k < strands; ++k)
+    {
+      mine.push_back(std::int64_t(k));
+    }
+    return mine;
+  }
+  const auto roots = P->Header.strandVectors.find("rest_root");
+  if (roots != P->Header.strandVectors.end())
+  {
+    const std::vector<int> part = bisect(roots->second, std::vector<double>(strands, 1.0), pieces);
+    for (std::size_t k = 0; k < strands; ++k)
+    {
+      if (part[k] == piece)
+      {
+        mine.push_back(std::int64_t(k));
+      }
+    }
+    return mine;
+  }
+  const std::size_t first = strands * std::size_t(piece) / std::size_t(pieces);
+  const std::size_t last = strands * std::size_t(piece + 1) / std::size_t(pieces);
+  for (std::size_t k = first; k < last; ++k)
+  {
+    mine.push_back(std::int64_t(k));
+  }
+  return mine;
+}
+
+/// Frame `index` as read (`out`, the whole run or a piece of it) checked and given its
+/// energies: the writer refuses non-finite values, so one here is damage.
+static Status finishFrame(const Contents& r, const std::string& path, std::int64_t index,
+                          StateFrame& out, StateFrame& frame)
+{
+  // The writer refuses non-finite values, so one here is damage: the frame is refused
+  // rather than shown with points at NaN (which breaks the view's bounds and every filter
+  // after it).
+  std::string bad;
+  auto finite = [&](const double* v, std::size_t n, std::size_t per, const std::string& what)
+  {
+    for (std::size_t i = 0; bad.empty() && i < n; ++i)
+    {
+      if (!std::isfinite(v[i]))
+      {
+        bad = what + " " + std::to_string(i / per);
+      }
+    }
+  };
+  finite(out.positions.empty() ? nullptr : out.positions[0].data(), 3 * out.positions.size(), 3,
+         "the position of point");
+  finite(out.velocities.empty() ? nullptr : out.velocities[0].data(), 3 * out.velocities.size(), 3,
+         "the velocity of point");
+  const std::size_t c = std::size_t(std::max(1, r.Header.coordinatesPerStrand));
+  finite(out.q.data(), out.q.size(), c, "q of strand");
+  finite(out.qdot.data(), out.qdot.size(), c, "qdot of strand");
+  finite(out.rootFrames.data(), out.rootFrames.size(), RootFrameValues, "the root pose of strand");
+  finite(out.rootVelocities.data(), out.rootVelocities.size(), RootVelocityValues,
+         "the root velocity of strand");
+  for (const auto& [name, values] : out.pointData)
+  {
+    finite(values.data(), values.size(), 1, "'" + name + "' at point");
+  }
+  if (!bad.empty())
+  {
+    return Status::Error("the state file '" + path + "': frame " + std::to_string(index) +
+                         " is damaged: " + bad + " is NaN or infinite.");
+  }
+  for (const auto& [name, values] : r.Energies)
+  {
+    out.energy[name] = values[index];
+  }
+  frame = std::move(out);
   return Status::Ok();
 }
 
@@ -779,45 +895,103 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
                          " cannot be read: the file is damaged, or was replaced since it was "
                          "opened (open it again).");
   }
-  // The writer refuses non-finite values, so one here is damage: the frame is refused
-  // rather than shown with points at NaN (which breaks the view's bounds and every filter
-  // after it).
-  std::string bad;
-  auto finite = [&](const double* v, std::size_t n, std::size_t per, const std::string& what)
+  return finishFrame(*P, P->Path, index, out, frame);
+}
+
+} // namespace hair
+
+namespace hair
+{
+
+Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int64_t>& strands,
+                                  StateFrame& frame) const
+{
+  if (P->Path.empty())
   {
-    for (std::size_t i = 0; bad.empty() && i < n; ++i)
-    {
-      if (!std::isfinite(v[i]))
-      {
-        bad = what + " " + std::to_string(i / per);
-      }
-    }
-  };
-  finite(out.positions.empty() ? nullptr : out.positions[0].data(), 3 * out.positions.size(), 3,
-         "the position of point");
-  finite(out.velocities.empty() ? nullptr : out.velocities[0].data(), 3 * out.velocities.size(), 3,
-         "the velocity of point");
-  const std::size_t c = std::size_t(std::max(1, P->Header.coordinatesPerStrand));
-  finite(out.q.data(), out.q.size(), c, "q of strand");
-  finite(out.qdot.data(), out.qdot.size(), c, "qdot of strand");
-  finite(out.rootFrames.data(), out.rootFrames.size(), RootFrameValues, "the root pose of strand");
-  finite(out.rootVelocities.data(), out.rootVelocities.size(), RootVelocityValues,
-         "the root velocity of strand");
-  for (const auto& [name, values] : out.pointData)
-  {
-    finite(values.data(), values.size(), 1, "'" + name + "' at point");
+    return Status::Error("the state file is not open.");
   }
-  if (!bad.empty())
+  if (index < 0 || index >= P->Frames)
+  {
+    return Status::Error("the state file '" + P->Path + "' has " + std::to_string(P->Frames) +
+                         " whole frames; frame " + std::to_string(index) + " does not exist.");
+  }
+  const StateHeader& h = P->Header;
+  Runs points, rows;
+  for (std::size_t i = 0; i < strands.size();)
+  {
+    if (strands[i] < 0 || std::size_t(strands[i]) >= h.numberOfStrands() ||
+        (i > 0 && strands[i] <= strands[i - 1]))
+    {
+      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
+                           std::to_string(h.numberOfStrands()) + " strands.");
+    }
+    std::size_t j = i + 1;
+    while (j < strands.size() && strands[j] == strands[j - 1] + 1)
+    {
+      ++j;
+    }
+    const std::int64_t first = strands[i], last = strands[j - 1] + 1;
+    rows.emplace_back(hsize_t(first), hsize_t(last - first));
+    points.emplace_back(hsize_t(h.offsets[first]), hsize_t(h.offsets[last] - h.offsets[first]));
+    i = j;
+  }
+  StateFrame out;
+  out.time = P->Times[index];
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    // Opened for this read, as readFrame does (the file may have grown or been replaced).
+    Handle file;
+    double bytes = 0;
+    ok = checkPath(P->Path, bytes) && openFile(P->Path, file);
+    const hid_t f = file.get();
+    auto read = [&](const char* name, const Runs& runs, std::vector<double>& data)
+    {
+      Handle d(ok ? H5Dopen2(f, name, H5P_DEFAULT) : -1);
+      RowSelection sel;
+      ok = ok && d.valid() && sel.build(d.get(), runs) && sel.moveToFrame(hsize_t(index));
+      if (ok)
+      {
+        data.resize(sel.values);
+        ok = H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(), H5P_DEFAULT,
+                     data.data()) >= 0;
+      }
+    };
+    auto vectors = [&](const char* name, std::vector<Eigen::Vector3d>& v)
+    {
+      std::vector<double> buffer;
+      read(name, points, buffer);
+      v.resize(buffer.size() / 3);
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
+      }
+    };
+    vectors(sf::Positions, out.positions);
+    vectors(sf::Velocities, out.velocities);
+    if (h.coordinatesPerStrand > 0)
+    {
+      read(sf::Q, rows, out.q);
+      read(sf::QDot, rows, out.qdot);
+    }
+    if (h.rootFrames)
+    {
+      read(sf::RootFrames, rows, out.rootFrames);
+      read(sf::RootVelocities, rows, out.rootVelocities);
+    }
+    for (const std::string& name : h.pointData)
+    {
+      read(sf::inGroup(sf::Frames, name).c_str(), points, out.pointData[name]);
+    }
+  }
+  H5E_END_TRY;
+  if (!ok)
   {
     return Status::Error("the state file '" + P->Path + "': frame " + std::to_string(index) +
-                         " is damaged: " + bad + " is NaN or infinite.");
+                         " cannot be read: the file is damaged, or was replaced since it was "
+                         "opened (open it again).");
   }
-  for (const auto& [name, values] : P->Energies)
-  {
-    out.energy[name] = values[index];
-  }
-  frame = std::move(out);
-  return Status::Ok();
+  return finishFrame(*P, P->Path, index, out, frame);
 }
 
 } // namespace hair

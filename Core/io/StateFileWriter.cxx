@@ -6,7 +6,10 @@
 #include "io/StateFormat.h"
 #include "io/StateGroom.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +27,7 @@ bool finite(const std::vector<double>& v)
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
-/// Creates (truncates) the file; an invalid handle if it cannot.
+/// Creates (truncates) the file for one writer; an invalid handle if it cannot.
 Handle createFile(const std::string& path)
 {
   Handle file;
@@ -39,13 +42,33 @@ Handle createFile(const std::string& path)
   return file;
 }
 
+/// Creates (truncates) the file shared by `ranks`, collectively: parallel HDF5 (MPI-IO) in
+/// the library's earliest format, whose superblock has no "open for writing" flag, so that a
+/// file whose writers were killed opens in any reader; every object 8-byte aligned, so that
+/// the count of whole frames is written in one piece.
+Handle createSharedFile(const std::string& path, const Ranks& ranks)
+{
+  Handle file;
+  H5E_BEGIN_TRY
+  {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+    H5Pset_fapl_mpio(fapl.get(), ranks.comm(), MPI_INFO_NULL);
+    H5Pset_alignment(fapl.get(), 0, 8);
+    H5Pset_all_coll_metadata_ops(fapl.get(), 1);
+    H5Pset_coll_metadata_write(fapl.get(), 1);
+    file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()));
+  }
+  H5E_END_TRY;
+  return file;
+}
+
 /// The root's attributes: the format, its version, the model, and the run attributes.
-Status writeRootAttributes(hid_t f, const StateHeader& header)
+Status writeRootAttributes(hid_t f, const StateHeader& header, int version)
 {
   Status s = writeStringAttribute(f, sf::FormatAttribute, sf::Name);
   if (s)
   {
-    s = writeScalarAttribute<int>(f, sf::VersionAttribute, H5T_NATIVE_INT, sf::Version);
+    s = writeScalarAttribute<int>(f, sf::VersionAttribute, H5T_NATIVE_INT, version);
   }
   if (s)
   {
@@ -66,13 +89,14 @@ Status writeRootAttributes(hid_t f, const StateHeader& header)
   return s;
 }
 
-/// One dataset [S, 3] of /strands per strand vector.
-Status writeStrandVectors(hid_t strands, const StateHeader& header)
+/// One dataset [S, 3] of /strands per strand vector (created by every rank of a shared
+/// file, written by one: `write`).
+Status writeStrandVectors(hid_t strands, const StateHeader& header, bool write)
 {
   for (const auto& [name, values] : header.strandVectors)
   {
     if (!writeRows(strands, name.c_str(), values.size(), 3,
-                   values.empty() ? nullptr : values[0].data()))
+                   values.empty() ? nullptr : values[0].data(), write))
     {
       return Status::Error("cannot write " + sf::inGroup(sf::Strands, name) + ".");
     }
@@ -80,39 +104,54 @@ Status writeStrandVectors(hid_t strands, const StateHeader& header)
   return Status::Ok();
 }
 
-/// The growing root datasets of /frames, when the header asks for them.
-bool createRootFrames(hid_t frames, const StateHeader& header, Handle& poses, Handle& rates)
+/// A per-frame dataset: growing by one frame at a time (one writer), or with room for
+/// `room` frames from the start (a shared file: Hdf5.h, createFixed; NaN where not written
+/// when `fill`).
+struct PerFrame
+{
+  hsize_t room = 0; ///< 0: growing
+  Handle make(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape,
+              bool fill = false) const
+  {
+    return room == 0 ? createGrowing(parent, name, frameShape)
+                     : createFixed(parent, name, room, frameShape, fill);
+  }
+};
+
+/// The root datasets of /frames, when the header asks for them.
+bool createRootFrames(hid_t frames, const StateHeader& header, const PerFrame& kind, Handle& poses,
+                      Handle& rates)
 {
   if (!header.rootFrames)
   {
     return true;
   }
   const hsize_t strands = header.numberOfStrands();
-  poses = createGrowing(frames, sf::RootFrames, {strands, hsize_t(RootFrameValues)});
-  rates = createGrowing(frames, sf::RootVelocities, {strands, hsize_t(RootVelocityValues)});
+  poses = kind.make(frames, sf::RootFrames, {strands, hsize_t(RootFrameValues)});
+  rates = kind.make(frames, sf::RootVelocities, {strands, hsize_t(RootVelocityValues)});
   return poses.valid() && rates.valid();
 }
 
 /// /strands: the offsets, then one dataset per strand parameter and per strand vector.
-Status writeStrands(hid_t strands, const StateHeader& header)
+Status writeStrands(hid_t strands, const StateHeader& header, bool write)
 {
   if (!writeArray(strands, sf::Offsets, H5T_NATIVE_INT64, header.offsets.size(),
-                  header.offsets.data()))
+                  header.offsets.data(), write))
   {
     return Status::Error(std::string("cannot write ") + sf::Offsets + ".");
   }
   for (const auto& [name, values] : header.strandParameters)
   {
-    if (!writeArray(strands, name.c_str(), H5T_NATIVE_DOUBLE, values.size(), values.data()))
+    if (!writeArray(strands, name.c_str(), H5T_NATIVE_DOUBLE, values.size(), values.data(), write))
     {
       return Status::Error("cannot write " + sf::inGroup(sf::Strands, name) + ".");
     }
   }
-  return writeStrandVectors(strands, header);
+  return writeStrandVectors(strands, header, write);
 }
 
-/// One growing dataset of /frames per per-point scalar.
-Status createPointData(hid_t frames, const StateHeader& header,
+/// One dataset of /frames per per-point scalar.
+Status createPointData(hid_t frames, const StateHeader& header, const PerFrame& kind,
                        std::map<std::string, Handle>& datasets)
 {
   const hsize_t points = header.numberOfPoints();
@@ -122,7 +161,7 @@ Status createPointData(hid_t frames, const StateHeader& header,
     {
       return Status::Error("the per-point array name '" + name + "' is reserved or repeated.");
     }
-    datasets[name] = createGrowing(frames, name.c_str(), {points});
+    datasets[name] = kind.make(frames, name.c_str(), {points});
     if (!datasets[name].valid())
     {
       return Status::Error("cannot create " + sf::inGroup(sf::Frames, name) + ".");
@@ -131,8 +170,8 @@ Status createPointData(hid_t frames, const StateHeader& header,
   return Status::Ok();
 }
 
-/// One growing dataset of /energy per term: the required ones and `extraTerms`.
-Status createEnergy(hid_t energy, const std::vector<std::string>& extraTerms,
+/// One dataset of /energy per term: the required ones and `extraTerms`.
+Status createEnergy(hid_t energy, const std::vector<std::string>& extraTerms, const PerFrame& kind,
                     std::map<std::string, Handle>& datasets)
 {
   std::vector<std::string> terms(std::begin(RequiredEnergyTerms), std::end(RequiredEnergyTerms));
@@ -145,13 +184,57 @@ Status createEnergy(hid_t energy, const std::vector<std::string>& extraTerms,
   }
   for (const auto& t : terms)
   {
-    datasets[t] = createGrowing(energy, t.c_str(), {});
+    datasets[t] = kind.make(energy, t.c_str(), {}, true);
     if (!datasets[t].valid())
     {
       return Status::Error("cannot create " + sf::inGroup(sf::Energy, t) + ".");
     }
   }
   return Status::Ok();
+}
+
+/// What a rank of a shared file writes of each per-frame dataset: its rows, as a selection
+/// built once (Hdf5.h, RowSelection) and moved to each frame.
+struct Piece
+{
+  Runs points, strands; ///< runs of this rank's points and strands in the file
+  std::size_t pointCount = 0, strandCount = 0;
+};
+
+/// The runs of consecutive strands of `ids` (increasing), as runs of strands and of points.
+Piece pieceOf(const StateHeader& header, const std::vector<std::int64_t>& ids)
+{
+  Piece p;
+  for (std::size_t i = 0; i < ids.size();)
+  {
+    std::size_t j = i + 1;
+    while (j < ids.size() && ids[j] == ids[j - 1] + 1)
+    {
+      ++j;
+    }
+    const std::int64_t first = ids[i], last = ids[j - 1] + 1;
+    p.strands.emplace_back(hsize_t(first), hsize_t(last - first));
+    p.points.emplace_back(hsize_t(header.offsets[first]),
+                          hsize_t(header.offsets[last] - header.offsets[first]));
+    p.strandCount += std::size_t(last - first);
+    p.pointCount += std::size_t(header.offsets[last] - header.offsets[first]);
+    i = j;
+  }
+  return p;
+}
+
+/// Whether another process holds `path` open for writing as a shared state file (its rank 0
+/// holds a shared lock on it while the run goes on), or it cannot be locked at all.
+bool lockedByAnotherRun(const std::string& path)
+{
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0)
+  {
+    return false;
+  }
+  const bool locked = ::flock(fd, LOCK_EX | LOCK_NB) != 0;
+  ::close(fd);
+  return locked;
 }
 } // namespace
 
@@ -163,6 +246,23 @@ struct StateFileWriter::Impl
   StateHeader Header;
   std::string Path;
   hsize_t Frames = 0;
+  // Shared files only.
+  FileSharing Sharing;
+  StateHeader PieceHeader; ///< this rank's strands (Header.piece)
+  Handle WholeFrames;
+  /// Per dataset (by its Handle's id), this rank's selection.
+  std::map<hid_t, RowSelection> Selections;
+  int Lock = -1; ///< rank 0: the file, locked shared while the run writes it
+
+  ~Impl()
+  {
+    if (Lock >= 0)
+    {
+      ::close(Lock);
+    }
+  }
+  bool shared() const { return Sharing.shared(); }
+  Status appendShared(const StateFrame& frame, const std::string& where);
 };
 
 StateFileWriter::StateFileWriter() : P(std::make_unique<Impl>()) {}
@@ -174,135 +274,254 @@ bool StateFileWriter::isOpen() const
 {
   return P->File.valid();
 }
+bool StateFileWriter::shared() const
+{
+  return P->File.valid() && P->shared();
+}
 std::int64_t StateFileWriter::numberOfFrames() const
 {
   return std::int64_t(P->Frames);
 }
 
+namespace
+{
+/// The check of create(): what is at `path` already, and whether it may be replaced.
+Status checkExisting(const std::string& path, StateFileWriter::Existing existing)
+{
+  struct stat info;
+  if (::stat(path.c_str(), &info) != 0)
+  {
+    return Status::Ok();
+  }
+  if (!S_ISREG(info.st_mode))
+  {
+    return Status::Error("exists and is not a regular file: not written over; choose another "
+                         "name.");
+  }
+  if (lockedByAnotherRun(path))
+  {
+    return Status::Error("is locked: another run is writing it; it is not written over, choose "
+                         "another name.");
+  }
+  StateFileReader old;
+  if (Status s = old.open(path); !s)
+  {
+    return Status::Error("exists and is not a HairDynamics state file that can be read (" +
+                         s.message() +
+                         "), or another run is writing it: it is not written over; choose "
+                         "another name.");
+  }
+  if (existing != StateFileWriter::Existing::ReplaceStateFile)
+  {
+    return Status::Error("exists (a state file of " + std::to_string(old.numberOfFrames()) +
+                         " frames): it is kept; choose another name, or allow the run to "
+                         "replace it (Hair Simulation's Overwrite State File).");
+  }
+  return Status::Ok();
+}
+} // namespace
+
 Status StateFileWriter::create(const std::string& path, const StateHeader& header,
-                               const std::vector<std::string>& extraEnergyTerms, Existing existing)
+                               const std::vector<std::string>& extraEnergyTerms, Existing existing,
+                               const FileSharing& sharing)
 {
   close();
-  if (Status s = header.validate(); !s)
-  {
-    return s;
-  }
+  const Ranks& ranks = sharing.ranks;
+  const bool shared = sharing.shared();
   auto fail = [&](const std::string& what)
   {
     P = std::make_unique<Impl>();
     return Status::Error("the state file '" + path + "': " + what);
   };
-  struct stat info;
-  if (::stat(path.c_str(), &info) == 0)
+  Status valid = header.validate();
+  if (valid && shared)
   {
-    if (!S_ISREG(info.st_mode))
+    const std::vector<std::int64_t>& ids = sharing.strands;
+    if (sharing.frames < 1)
     {
-      return fail("exists and is not a regular file: not written over; choose another name.");
+      valid = Status::Error("a shared state file needs the number of frames of the run.");
     }
-    StateFileReader old;
-    if (Status s = old.open(path); !s)
+    for (std::size_t i = 0; valid && i < ids.size(); ++i)
     {
-      return fail("exists and is not a HairDynamics state file that can be read (" + s.message() +
-                  "), or another run is writing it: it is not written over; choose another "
-                  "name.");
-    }
-    if (existing != Existing::ReplaceStateFile)
-    {
-      return fail("exists (a state file of " + std::to_string(old.numberOfFrames()) +
-                  " frames): it is kept; choose another name, or allow the run to replace it "
-                  "(Hair Simulation's Overwrite State File).");
+      if (ids[i] < 0 || std::size_t(ids[i]) >= header.numberOfStrands() ||
+          (i > 0 && ids[i] <= ids[i - 1]))
+      {
+        valid = Status::Error("this rank's strands must be increasing numbers of the run's " +
+                              std::to_string(header.numberOfStrands()) + " strands.");
+      }
     }
   }
-  P->File = createFile(path);
-  if (!P->File.valid())
+  if (Status s = ranks.agree(valid); !s)
+  {
+    return shared ? fail(s.message()) : s;
+  }
+  // What is at the path: looked at by one rank, the answer given to all.
+  Status there = ranks.rank() == 0 ? checkExisting(path, existing) : Status::Ok();
+  if (Status s = shared ? ranks.agree(there) : there; !s)
+  {
+    return fail(s.message());
+  }
+  P->File = shared ? createSharedFile(path, ranks) : createFile(path);
+  if (Status s = ranks.agree(P->File.valid() ? Status::Ok() : Status::Error(""));
+      !s || !P->File.valid())
   {
     return fail("cannot be created: check that its folder exists and is writable, and that no "
                 "other run is writing the same file.");
   }
+  P->Header = header;
+  P->Path = path;
+  P->Sharing = sharing;
+  const bool writes = !shared || ranks.rank() == 0; // who writes what every rank has
+  const hid_t f = P->File.get();
   // HDF5's error stack is never printed: each failure is returned as a message.
   Status made = Status::Ok();
   H5E_BEGIN_TRY
   {
     made = [&]() -> Status
     {
-      P->Header = header;
-      P->Path = path;
-      const hid_t f = P->File.get();
-      if (Status s = writeRootAttributes(f, header); !s)
+      if (Status s = writeRootAttributes(f, header, shared ? sf::SharedVersion : sf::Version); !s)
       {
-        return fail(s.message());
+        return s;
       }
       Handle strands(H5Gcreate2(f, sf::Strands, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
       Handle frames(H5Gcreate2(f, sf::Frames, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
       Handle energy(H5Gcreate2(f, sf::Energy, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
-      if (Status s = writeStrands(strands.get(), header); !s)
+      if (Status s = writeStrands(strands.get(), header, writes); !s)
       {
-        return fail(s.message());
+        return s;
       }
       if (Status s = detail::writeGroom(f, header); !s)
       {
-        return fail(s.message());
+        return s;
       }
+      const PerFrame kind{shared ? hsize_t(sharing.frames) : 0};
       const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
-      P->Time = createGrowing(f, sf::Time, {});
-      P->Positions = createGrowing(frames.get(), sf::Positions, {points, 3});
-      P->Velocities = createGrowing(frames.get(), sf::Velocities, {points, 3});
+      P->Time = kind.make(f, sf::Time, {}, true);
+      P->Positions = kind.make(frames.get(), sf::Positions, {points, 3});
+      P->Velocities = kind.make(frames.get(), sf::Velocities, {points, 3});
       if (header.coordinatesPerStrand > 0)
       {
         const hsize_t c = hsize_t(header.coordinatesPerStrand);
-        P->Q = createGrowing(frames.get(), sf::Q, {strandCount, c});
-        P->QDot = createGrowing(frames.get(), sf::QDot, {strandCount, c});
+        P->Q = kind.make(frames.get(), sf::Q, {strandCount, c});
+        P->QDot = kind.make(frames.get(), sf::QDot, {strandCount, c});
       }
-      if (!createRootFrames(frames.get(), header, P->RootFrames, P->RootVelocities))
+      if (!createRootFrames(frames.get(), header, kind, P->RootFrames, P->RootVelocities))
       {
-        return fail("cannot create the root datasets.");
+        return Status::Error("cannot create the root datasets.");
       }
-      if (Status s = createPointData(frames.get(), header, P->PointData); !s)
+      if (Status s = createPointData(frames.get(), header, kind, P->PointData); !s)
       {
-        return fail(s.message());
+        return s;
       }
-      if (Status s = createEnergy(energy.get(), extraEnergyTerms, P->Energy); !s)
+      if (Status s = createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy); !s)
       {
-        return fail(s.message());
+        return s;
       }
       if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
           (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
       {
-        return fail("cannot create the per-frame datasets.");
+        return Status::Error("cannot create the per-frame datasets.");
       }
-      strands.reset();
-      frames.reset();
-      energy.reset();
       return Status::Ok();
     }();
   }
   H5E_END_TRY;
-  if (!made)
+  // Every rank creates the datasets together (collective under MPI): a failure on one is
+  // every rank's.
+  if (Status s = shared ? ranks.agree(made) : made; !s)
   {
-    return made;
+    return fail(s.message());
   }
-  herr_t swmr;
+  if (!shared)
+  {
+    herr_t swmr;
+    H5E_BEGIN_TRY
+    {
+      swmr = H5Fstart_swmr_write(f);
+    }
+    H5E_END_TRY;
+    if (swmr < 0)
+    {
+      return fail("cannot start single-writer/multiple-reader mode.");
+    }
+    return Status::Ok();
+  }
+
+  // Shared: the count of whole frames (0), this rank's selections, and then the file's whole
+  // structure written and flushed, once: frames write raw data only.
+  bool ok = true;
   H5E_BEGIN_TRY
   {
-    swmr = H5Fstart_swmr_write(P->File.get());
+    Handle space(H5Screate(H5S_SCALAR));
+    Handle props(H5Pcreate(H5P_DATASET_CREATE));
+    H5Pset_layout(props.get(), H5D_CONTIGUOUS);
+    H5Pset_alloc_time(props.get(), H5D_ALLOC_TIME_EARLY);
+    H5Pset_obj_track_times(props.get(), 0);
+    const std::int64_t zero = 0;
+    H5Pset_fill_value(props.get(), H5T_NATIVE_INT64, &zero);
+    H5Pset_fill_time(props.get(), H5D_FILL_TIME_ALLOC);
+    P->WholeFrames = Handle(H5Dcreate2(f, sf::WholeFrames, H5T_NATIVE_INT64, space.get(),
+                                       H5P_DEFAULT, props.get(), H5P_DEFAULT));
+    ok = P->WholeFrames.valid();
+    P->PieceHeader = header.piece(sharing.strands);
+    const Piece piece = pieceOf(header, sharing.strands);
+    auto select = [&](const Handle& d, const Runs& runs)
+    {
+      if (ok && d.valid())
+      {
+        ok = P->Selections[d.get()].build(d.get(), runs);
+      }
+    };
+    select(P->Positions, piece.points);
+    select(P->Velocities, piece.points);
+    select(P->Q, piece.strands);
+    select(P->QDot, piece.strands);
+    select(P->RootFrames, piece.strands);
+    select(P->RootVelocities, piece.strands);
+    for (auto& [name, d] : P->PointData)
+    {
+      select(d, piece.points);
+    }
+    ok = ok && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0;
   }
   H5E_END_TRY;
-  if (swmr < 0)
+  if (Status s = ranks.agree(ok ? Status::Ok() : Status::Error("cannot create its datasets.")); !s)
   {
-    return fail("cannot start single-writer/multiple-reader mode.");
+    return fail(s.message());
+  }
+  if (ranks.rank() == 0)
+  {
+    P->Lock = ::open(path.c_str(), O_RDONLY);
+    if (P->Lock >= 0)
+    {
+      ::flock(P->Lock, LOCK_SH | LOCK_NB);
+    }
   }
   return Status::Ok();
 }
 
-Status StateFileWriter::append(const StateFrame& frame)
+namespace
 {
-  if (!P->File.valid())
+/// The frame's vectors as rows of three numbers.
+std::vector<double> flat(const std::vector<Eigen::Vector3d>& v)
+{
+  std::vector<double> out(3 * v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
   {
-    return Status::Error("the state file is not open: create it first.");
+    out[3 * i] = v[i].x();
+    out[3 * i + 1] = v[i].y();
+    out[3 * i + 2] = v[i].z();
   }
-  const StateHeader& h = P->Header;
-  const std::string where = "the state file '" + P->Path + "', frame " + std::to_string(P->Frames) +
-                            " (t = " + std::to_string(frame.time) + " s): ";
+  return out;
+}
+
+/// The checks of append() on a frame of the strands `h` describes (a rank's piece of a
+/// shared file); `where` names the file and the frame.
+Status checkFrame(const StateHeader& h, const std::map<std::string, Handle>& pointData,
+                  const std::map<std::string, Handle>& energy, const StateFrame& frame,
+                  const std::vector<double>& pos, const std::vector<double>& vel,
+                  const std::string& where)
+{
   if (frame.positions.size() != h.numberOfPoints() || frame.velocities.size() != h.numberOfPoints())
   {
     return Status::Error(where + "expected " + std::to_string(h.numberOfPoints()) +
@@ -322,25 +541,13 @@ Status StateFileWriter::append(const StateFrame& frame)
     return Status::Error(where + "expected " + std::to_string(roots) +
                          " root frames and velocities.");
   }
-  auto flat = [](const std::vector<Eigen::Vector3d>& v)
-  {
-    std::vector<double> out(3 * v.size());
-    for (std::size_t i = 0; i < v.size(); ++i)
-    {
-      out[3 * i] = v[i].x();
-      out[3 * i + 1] = v[i].y();
-      out[3 * i + 2] = v[i].z();
-    }
-    return out;
-  };
-  const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
   if (!std::isfinite(frame.time) || !finite(pos) || !finite(vel) || !finite(frame.q) ||
       !finite(frame.qdot) || !finite(frame.rootFrames) || !finite(frame.rootVelocities))
   {
     return Status::Error(
         where + "NaN or infinite values: the frame is not written, the frames before it are kept.");
   }
-  for (const auto& [name, dataset] : P->PointData)
+  for (const auto& [name, dataset] : pointData)
   {
     const auto it = frame.pointData.find(name);
     if (it == frame.pointData.end() || it->second.size() != h.numberOfPoints() ||
@@ -353,11 +560,48 @@ Status StateFileWriter::append(const StateFrame& frame)
   }
   for (const auto& [name, value] : frame.energy)
   {
-    if (P->Energy.find(name) == P->Energy.end())
+    if (energy.find(name) == energy.end())
     {
       return Status::Error(where + "the energy term '" + name +
                            "' was not declared when the file was created.");
     }
+  }
+  return Status::Ok();
+}
+
+/// Writes one scalar of a frame at t of a shared file's dataset (the writing rank only).
+bool writeScalar(hid_t dataset, hsize_t t, hid_t type, const void* value)
+{
+  Handle file(H5Dget_space(dataset));
+  const int rank = H5Sget_simple_extent_ndims(file.get());
+  if (rank > 0)
+  {
+    const hsize_t one = 1;
+    H5Sselect_hyperslab(file.get(), H5S_SELECT_SET, &t, nullptr, &one, nullptr);
+  }
+  const hsize_t one = 1;
+  Handle memory(H5Screate_simple(1, &one, nullptr));
+  return H5Dwrite(dataset, type, memory.get(), file.get(), H5P_DEFAULT, value) >= 0;
+}
+} // namespace
+
+Status StateFileWriter::append(const StateFrame& frame)
+{
+  if (!P->File.valid())
+  {
+    return Status::Error("the state file is not open: create it first.");
+  }
+  const std::string where = "the state file '" + P->Path + "', frame " + std::to_string(P->Frames) +
+                            " (t = " + std::to_string(frame.time) + " s): ";
+  if (P->shared())
+  {
+    return P->appendShared(frame, where);
+  }
+  const StateHeader& h = P->Header;
+  const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
+  if (Status s = checkFrame(h, P->PointData, P->Energy, frame, pos, vel, where); !s)
+  {
+    return s;
   }
   const hsize_t t = P->Frames;
   bool ok = true;
@@ -404,6 +648,165 @@ Status StateFileWriter::append(const StateFrame& frame)
   return Status::Ok();
 }
 
+Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::string& where)
+{
+  const Ranks& ranks = Sharing.ranks;
+  const StateHeader& h = PieceHeader;
+  const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
+  Status checked = checkFrame(h, PointData, Energy, frame, pos, vel, where);
+  if (checked && Frames >= hsize_t(Sharing.frames))
+  {
+    checked = Status::Error(where + "the file has room for the run's " +
+                            std::to_string(Sharing.frames) + " frames only.");
+  }
+  // A frame one rank refuses is written by none: no rank is left in a collective write.
+  if (Status s = ranks.agree(checked); !s)
+  {
+    return s;
+  }
+  const hsize_t t = Frames;
+  const bool writer = ranks.rank() == 0;
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    Handle collective(H5Pcreate(H5P_DATASET_XFER));
+    H5Pset_dxpl_mpio(collective.get(), H5FD_MPIO_COLLECTIVE);
+    auto write = [&](const Handle& d, const double* data)
+    {
+      if (ok && d.valid())
+      {
+        RowSelection& sel = Selections.at(d.get());
+        ok = sel.moveToFrame(t) && H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(),
+                                            sel.file.get(), collective.get(), data) >= 0;
+      }
+    };
+    write(Positions, pos.data());
+    write(Velocities, vel.data());
+    write(Q, frame.q.data());
+    write(QDot, frame.qdot.data());
+    write(RootFrames, frame.rootFrames.data());
+    write(RootVelocities, frame.rootVelocities.data());
+    for (auto& [name, dataset] : PointData)
+    {
+      write(dataset, frame.pointData.at(name).data());
+    }
+    // The run's numbers of the frame (the same on every rank): written by one.
+    if (writer)
+    {
+      for (auto& [name, dataset] : Energy)
+      {
+        const auto it = frame.energy.find(name);
+        const double value = it == frame.energy.end() ? 0.0 : it->second;
+        ok = ok && writeScalar(dataset.get(), t, H5T_NATIVE_DOUBLE, &value);
+      }
+      ok = ok && writeScalar(Time.get(), t, H5T_NATIVE_DOUBLE, &frame.time);
+    }
+  }
+  H5E_END_TRY;
+  // Every rank's part of the frame is written (the collective writes have returned on every
+  // rank, aggregators included) before the count says the frame is whole.
+  const std::string failed =
+      where + "writing failed (is the disk full?); the frames before it are kept.";
+  if (Status s = ranks.agree(ok ? Status::Ok() : Status::Error(failed)); !s)
+  {
+    return s;
+  }
+  if (writer)
+  {
+    const std::int64_t whole = std::int64_t(t) + 1;
+    H5E_BEGIN_TRY
+    {
+      ok = writeScalar(WholeFrames.get(), 0, H5T_NATIVE_INT64, &whole);
+    }
+    H5E_END_TRY;
+  }
+  if (Status s = ranks.agree(ok ? Status::Ok() : Status::Error(failed)); !s)
+  {
+    return s;
+  }
+  ++Frames;
+  return Status::Ok();
+}
+
+Status StateFileWriter::readPiece(std::int64_t index, StateFrame& frame) const
+{
+  if (!shared())
+  {
+    return Status::Error("only a shared state file is read back through its writer.");
+  }
+  if (index < 0 || hsize_t(index) >= P->Frames)
+  {
+    return Status::Error("the state file '" + P->Path + "' has " + std::to_string(P->Frames) +
+                         " whole frames; frame " + std::to_string(index) + " does not exist.");
+  }
+  const StateHeader& h = P->PieceHeader;
+  const hsize_t t = hsize_t(index);
+  StateFrame out;
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    Handle collective(H5Pcreate(H5P_DATASET_XFER));
+    H5Pset_dxpl_mpio(collective.get(), H5FD_MPIO_COLLECTIVE);
+    auto read = [&](const Handle& d, std::vector<double>& data)
+    {
+      if (ok && d.valid())
+      {
+        RowSelection& sel = P->Selections.at(d.get());
+        data.resize(sel.values);
+        ok = sel.moveToFrame(t) && H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(),
+                                           sel.file.get(), collective.get(), data.data()) >= 0;
+      }
+    };
+    auto vectors = [&](const Handle& d, std::vector<Eigen::Vector3d>& v)
+    {
+      std::vector<double> buffer;
+      read(d, buffer);
+      v.resize(buffer.size() / 3);
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
+      }
+    };
+    vectors(P->Positions, out.positions);
+    vectors(P->Velocities, out.velocities);
+    read(P->Q, out.q);
+    read(P->QDot, out.qdot);
+    read(P->RootFrames, out.rootFrames);
+    read(P->RootVelocities, out.rootVelocities);
+    for (auto& [name, dataset] : P->PointData)
+    {
+      read(dataset, out.pointData[name]);
+    }
+    // The run's numbers, written by rank 0: read by every rank.
+    auto scalar = [&](const Handle& d, double& value)
+    {
+      Handle file(H5Dget_space(d.get()));
+      const hsize_t one = 1;
+      H5Sselect_hyperslab(file.get(), H5S_SELECT_SET, &t, nullptr, &one, nullptr);
+      Handle memory(H5Screate_simple(1, &one, nullptr));
+      ok = ok &&
+           H5Dread(d.get(), H5T_NATIVE_DOUBLE, memory.get(), file.get(), H5P_DEFAULT, &value) >= 0;
+    };
+    scalar(P->Time, out.time);
+    for (auto& [name, dataset] : P->Energy)
+    {
+      scalar(dataset, out.energy[name]);
+    }
+  }
+  H5E_END_TRY;
+  (void)h;
+  if (Status s = P->Sharing.ranks.agree(ok ? Status::Ok()
+                                           : Status::Error("the state file '" + P->Path +
+                                                           "': frame " + std::to_string(index) +
+                                                           " cannot be read back."));
+      !s)
+  {
+    return s;
+  }
+  frame = std::move(out);
+  return Status::Ok();
+}
+
 Status StateFileWriter::close()
 {
   if (!P->File.valid())
@@ -412,6 +815,7 @@ Status StateFileWriter::close()
   }
   P->Energy.clear();
   P->PointData.clear();
+  P->Selections.clear();
   P->Time.reset();
   P->Positions.reset();
   P->Velocities.reset();
@@ -419,8 +823,16 @@ Status StateFileWriter::close()
   P->QDot.reset();
   P->RootFrames.reset();
   P->RootVelocities.reset();
-  P->File.reset();
-  P->Frames = 0;
+  P->WholeFrames.reset();
+  // A shared file is closed collectively; after MPI_Finalize (a writer outliving it) HDF5
+  // has closed it already, at MPI_Finalize. Its structure has been on disk since create().
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!P->shared() || !finalized)
+  {
+    P->File.reset();
+  }
+  P = std::make_unique<Impl>();
   return Status::Ok();
 }
 

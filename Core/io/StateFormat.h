@@ -9,6 +9,10 @@ namespace hair::stateformat
 /// The value of the root's `format` attribute, and the version this code writes and reads.
 inline constexpr char Name[] = "HairDynamics states";
 inline constexpr int Version = 1;
+/// The version of a file written by several MPI ranks together: every per-frame dataset has
+/// room for the run's frames from the start, and WholeFrames counts the whole ones
+/// (docs/state-file.md). This code reads both versions.
+inline constexpr int SharedVersion = 2;
 
 // Attributes of the root group. Every other numeric attribute of the root is a run
 // attribute (StateHeader::attributes).
@@ -22,6 +26,8 @@ inline constexpr const char* RootAttributes[] = {FormatAttribute, VersionAttribu
 // Groups and datasets, by absolute path. T counts frames (/frames and /energy may hold one
 // more than /time), P points, S strands, C coordinates per strand.
 inline constexpr char Time[] = "/time"; ///< [T]; its length is the number of whole frames
+/// int64 scalar, version 2 only: the number of whole frames (/time is as long as the run).
+inline constexpr char WholeFrames[] = "/whole_frames";
 /// offsets, then one dataset [S] per strand parameter and one [S, 3] per strand vector.
 inline constexpr char Strands[] = "/strands";
 inline constexpr char Offsets[] = "/strands/offsets"; ///< int64 [S+1]

@@ -5,6 +5,7 @@
 // penetration measure and the filters know nothing else of it. superhelix/ and projective/
 // implement it; a third model is a third implementation, registered in
 // simulation/ModelRegistry.cxx (docs/architecture.md, "Adding a model").
+#include "common/Ranks.h"
 #include "common/Status.h"
 #include "io/StateFile.h"
 #include "model/EnergyBudget.h"
@@ -26,7 +27,16 @@ struct RunSettings
   double timeStep = 1.0 / 30;
   double frameInterval = 1.0 / 30; ///< s between stored frames
   int threads = 1;
+  /// The run's number of each guide given to initialize(), increasing; empty: 0, 1, … in
+  /// order. Under MPI a model is given its rank's share of the run's guides: a strand's
+  /// name, id and seeded variation follow its number in the run, not its place in the share,
+  /// so that it is the same strand on any number of ranks.
+  std::vector<int> strandIds;
+  /// The ranks the run's strands are shared among (one: this process alone). A model whose
+  /// strands interact (hair–hair contacts) exchanges what it needs of the others' strands.
+  Ranks ranks;
   Status validate() const;
+  int strandId(std::size_t k) const { return strandIds.empty() ? int(k) : strandIds[k]; }
 };
 
 class StrandModel
@@ -69,6 +79,9 @@ public:
   /// file's /groom/rest_coordinates); empty when the model has none to give.
   virtual void restCoordinates(std::vector<double>& values) const { values.clear(); }
 
+  /// The cost of a step of `guide` relative to the other guides of a run (any unit): what the
+  /// strands are shared among MPI ranks by (common/Partition.h). Called before initialize().
+  virtual double stepCost(const GuideStrand& guide) const = 0;
   /// How the model stepped since the previous frame, as named numbers for the energy table
   /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
   /// empty for a model that reports none.

@@ -52,14 +52,14 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
       // t = 0 and (as grown) the styled rest shape.
       if (Status s = segmentsAlongCurve(g.curve, n, points, Reports[k].fitError); !s)
       {
-        return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+        return Status::Error("strand " + std::to_string(run.strandId(k)) + ": " + s.message());
       }
       Built[k].length = n * (points[1] - points[0]).norm();
       Built[k].growth = (points[1] - points[0]).normalized();
     }
     if (Status s = strandFromPolyline(points, Built[k].rootFrame().col(1), strands[k]); !s)
     {
-      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+      return Status::Error("strand " + std::to_string(run.strandId(k)) + ": " + s.message());
     }
     strands[k].parameters = material(g.hair);
   }
@@ -80,7 +80,7 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
     ProjectiveSagFree r;
     if (Status s = projectiveSagFree(Strands, static_cast<int>(k), SagFree, r); !s)
     {
-      return Status::Error("strand " + std::to_string(k) + ": " + s.message());
+      return Status::Error("strand " + std::to_string(run.strandId(k)) + ": " + s.message());
     }
     const double fit = Reports[k].fitError;
     Reports[k] = r.report;

@@ -26,6 +26,8 @@ public:
   EnergyBudget energy() const override;
   void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const override;
   void restCoordinates(std::vector<double>& values) const override;
+  /// Its segments: every segment of every strand costs the same explicit update.
+  double stepCost(const GuideStrand& guide) const override { return guide.elements; }
 
   /// The explicit scheme's step: at most 1 ms, in whole steps per frame so that frames fall
   /// on their times.

@@ -211,39 +211,83 @@ Status HairInterpolation::guideRoots(const std::vector<GuideStrand>& guides,
 Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
                                const InterpolationOptions& options)
 {
-  Roots.clear();
-  GuideRoots set;
-  if (Status s = guideRoots(guides, options, set); !s)
-    return s;
-  if (Status s = scalp.validate("the scalp surface"); !s)
-    return s;
+  return bind(guides, scalp, options, {}, Ranks());
+}
 
-  // The scalp near the roots: triangles whose centroid is within 1.5 spacings of a root.
-  std::vector<std::uint8_t> region(scalp.triangles.size(), 0);
-  std::vector<std::pair<double, int>> found;
-  bool any = false;
-  for (std::size_t t = 0; t < scalp.triangles.size(); ++t)
+Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
+                               const InterpolationOptions& options,
+                               const std::vector<std::uint8_t>& ghost, const Ranks& ranks)
+{
+  Roots.clear();
+  const bool shared = ranks.parallel();
+  GuideRoots set;
+  // A rank's piece may have no guide at all (more ranks than guides): then no rendered hair.
+  Status s = shared && guides.empty() ? Status::Ok() : guideRoots(guides, options, set);
+  s = s ? scalp.validate("the scalp surface") : s;
+  if (s && !ghost.empty() && ghost.size() != guides.size())
   {
-    const auto& tri = scalp.triangles[t];
-    const Eigen::Vector3d c =
-        (scalp.points[tri[0]] + scalp.points[tri[1]] + scalp.points[tri[2]]) / 3;
-    set.grid->nearest(c, 1, found);
-    region[t] = found[0].first <= 1.5 * set.spacing;
-    any = any || region[t];
+    s = Status::Error("the ghost flags are not one per guide.");
   }
-  if (!any)
-    return Status::Error("no part of the scalp surface lies near the guides' "
-                         "roots (within 1.5 × their spacing of " +
-                         std::to_string(set.spacing) + " m): give the surface the guides grew on.");
-  std::vector<Root> samples;
-  if (Status s =
-          sampleUniformly(scalp, region, std::size_t(options.strands), options.seed, samples);
-      !s)
-    return s;
-  std::vector<Eigen::Vector3d> positions(samples.size());
-  for (std::size_t r = 0; r < samples.size(); ++r)
-    positions[r] = samples[r].position;
-  return bindRoots(guides, set, positions, options);
+
+  // The scalp near the roots: triangles whose centroid is within 1.5 spacings of a root
+  // (under MPI: whose nearest root is one of this rank's own guides).
+  std::vector<std::uint8_t> region(scalp.triangles.size(), 0);
+  double area = 0;
+  if (s && !guides.empty())
+  {
+    std::vector<std::pair<double, int>> found;
+    for (std::size_t t = 0; t < scalp.triangles.size(); ++t)
+    {
+      const auto& tri = scalp.triangles[t];
+      const Eigen::Vector3d a = scalp.points[tri[0]], b = scalp.points[tri[1]],
+                            c = scalp.points[tri[2]];
+      set.grid->nearest((a + b + c) / 3, 1, found);
+      region[t] = found[0].first <= 1.5 * set.spacing &&
+                  (ghost.empty() || !ghost[std::size_t(found[0].second)]);
+      area += region[t] ? 0.5 * (b - a).cross(c - a).norm() : 0.0;
+    }
+  }
+  // This rank's share of the rendered strands: by its part's area, the counts of the ranks
+  // before it rounded on the running total so that they add up to options.strands.
+  std::size_t count = std::size_t(options.strands);
+  if (shared)
+  {
+    if (s = ranks.agree(s); !s)
+    {
+      return s;
+    }
+    const std::vector<double> areas = ranks.gather(std::vector<double>{area});
+    double before = 0, total = 0;
+    for (int r = 0; r < ranks.size(); ++r)
+    {
+      before += r < ranks.rank() ? areas[r] : 0;
+      total += areas[r];
+    }
+    if (total > 0)
+    {
+      const double S = double(options.strands);
+      count =
+          std::size_t(std::llround(S * (before + area) / total) - std::llround(S * before / total));
+    }
+    area = total;
+  }
+  if (s && !(area > 0))
+  {
+    s = Status::Error("no part of the scalp surface lies near the guides' roots (within 1.5 × "
+                      "their spacing of " +
+                      std::to_string(set.spacing) + " m): give the surface the guides grew on.");
+  }
+  if (s && count > 0)
+  {
+    std::vector<Root> samples;
+    const std::uint32_t seed = options.seed + 0x9E3779B9u * std::uint32_t(ranks.rank());
+    s = sampleUniformly(scalp, region, count, seed, samples);
+    std::vector<Eigen::Vector3d> positions(samples.size());
+    for (std::size_t r = 0; r < samples.size(); ++r)
+      positions[r] = samples[r].position;
+    s = s ? bindRoots(guides, set, positions, options) : s;
+  }
+  return shared ? ranks.agree(s) : s;
 }
 
 Status HairInterpolation::bind(const std::vector<GuideStrand>& guides,

@@ -7,6 +7,7 @@
 // guides' material frames, so a curly guide gives curly rendered hair. docs/hair-interpolation.md.
 #include "collision/PosedPart.h"
 #include "common/Progress.h"
+#include "common/Ranks.h"
 #include "common/Status.h"
 #include "geometry/TriangleMesh.h"
 #include "strands/GuideStrand.h"
@@ -99,6 +100,17 @@ public:
   /// scalp near the roots, bad options.
   Status bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
               const InterpolationOptions& options);
+  /// The same under MPI (collective over `ranks`): `guides` are this rank's piece of the
+  /// guides and, where `ghost` is 1, copies of neighbouring ranks' guides (ghost strands).
+  /// The rendered strands are rooted on the part of the scalp region whose nearest guide is
+  /// one of this rank's own (triangle by triangle: every triangle of the region on exactly
+  /// one rank), their number this part's share of options.strands by area, seeded apart per
+  /// rank, and each is bound among all the guides given, so that near the piece's edge it
+  /// follows the neighbouring pieces' guides as it would on one process. A rank may get no
+  /// rendered strand (then isBound() is false); a refusal on one rank is every rank's.
+  Status bind(const std::vector<GuideStrand>& guides, const TriangleMesh& scalp,
+              const InterpolationOptions& options, const std::vector<std::uint8_t>& ghost,
+              const Ranks& ranks);
   /// The same with the rendered roots given (points on or near the scalp, at rest).
   Status bind(const std::vector<GuideStrand>& guides, const std::vector<Eigen::Vector3d>& roots,
               const InterpolationOptions& options);

@@ -60,37 +60,52 @@ Status FrameStore::checkMemory(int frames, double perFrame, double budget, std::
 }
 
 Status FrameStore::open(const StateHeader& header, const std::vector<std::string>& extra,
-                        StateFrame first, const StorageOptions& options)
+                        StateFrame first, const StorageOptions& options, const FileSharing& sharing)
 {
   close();
   Frames.clear();
   Window = std::numeric_limits<int>::max();
+  const Ranks& ranks = sharing.ranks;
   const double perFrame = bytesOf(first);
+  double window = std::numeric_limits<double>::infinity();
+  Status fits = Status::Ok();
   if (options.frames > 0)
   {
     if (Status s =
             checkMemory(options.frames, perFrame, options.memoryBudget, first.positions.size());
         !s)
     {
-      const double window = std::floor(options.memoryBudget / std::max(perFrame, 1.0));
+      window = std::floor(options.memoryBudget / std::max(perFrame, 1.0));
       if (options.stateFile.empty())
       {
-        return s;
+        fits = s;
       }
-      if (window < 2)
+      else if (window < 2)
       {
-        return Status::Error(s.message() + " Even streaming to the state file needs two "
+        fits = Status::Error(s.message() + " Even streaming to the state file needs two "
                                            "frames in memory.");
       }
-      Window = static_cast<int>(std::min(window, double(options.frames)));
     }
+  }
+  // Every rank keeps the same frames in memory: the smallest window any rank needs.
+  if (Status s = ranks.agree(fits); !s)
+  {
+    return s;
+  }
+  ranks.min(&window, 1);
+  if (std::isfinite(window))
+  {
+    Window = static_cast<int>(std::min(window, double(options.frames)));
   }
   if (!options.stateFile.empty())
   {
     auto writer = std::make_unique<StateFileWriter>();
+    FileSharing file = sharing;
+    file.frames = options.frames;
     Status s = writer->create(options.stateFile, header, extra,
                               options.replaceStateFile ? StateFileWriter::Existing::ReplaceStateFile
-                                                       : StateFileWriter::Existing::Refuse);
+                                                       : StateFileWriter::Existing::Refuse,
+                              file);
     s = s ? writer->append(first) : s;
     if (!s)
     {
@@ -99,6 +114,8 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
     Writer = std::move(writer);
   }
   Header = header;
+  Piece = sharing.shared() ? header.piece(sharing.strands) : header;
+  Shared = ranks;
   Options = options;
   Frames.push_back(std::move(first));
   return Status::Ok();
@@ -144,8 +161,9 @@ void FrameStore::close()
 
 bool FrameStore::inMemory(int index) const
 {
-  const StateFrame& f = Frames.at(index);
-  return !f.positions.empty() || Header.numberOfPoints() == 0;
+  // The frames older than the window are released (the same ones on every rank).
+  (void)Frames.at(index);
+  return Window == std::numeric_limits<int>::max() || index >= size() - Window;
 }
 
 void FrameStore::release(int index)
@@ -177,10 +195,19 @@ Status FrameStore::read(int index, StateFrame& out) const
     out = Frames[index];
     return Status::Ok();
   }
-  // Opened for each such request: the file grows while the run goes on.
-  StateFileReader reader;
-  Status s = reader.open(Options.stateFile);
-  s = s ? reader.readFrame(index, out) : s;
+  Status s = Status::Ok();
+  if (Writer && Writer->shared())
+  {
+    // Read through the file the ranks write (collective: every rank its piece).
+    s = Writer->readPiece(index, out);
+  }
+  else
+  {
+    // Opened for each such request: the file grows while the run goes on.
+    StateFileReader reader;
+    s = reader.open(Options.stateFile);
+    s = s ? reader.readFrame(index, out) : s;
+  }
   if (!s)
   {
     return Status::Error("frame " + std::to_string(index) +

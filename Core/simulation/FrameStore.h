@@ -44,12 +44,15 @@ public:
 
   /// Starts a run's store with its first frame: creates (truncates) the state file, if any,
   /// and writes the frame to it; decides how many frames stay in memory. On error nothing
-  /// is kept.
+  /// is kept. Under MPI (sharing.shared()), collective: `header` is the whole run's, the
+  /// frames this rank's piece (sharing.strands), the state file shared by the ranks, and the
+  /// memory window the smallest any rank needs, so that the ranks release and read back
+  /// the same frames.
   Status open(const StateHeader& header, const std::vector<std::string>& extraEnergyTerms,
-              StateFrame first, const StorageOptions& options);
+              StateFrame first, const StorageOptions& options, const FileSharing& sharing = {});
   /// Adds the next frame: written and flushed to the state file, kept in memory, and the
   /// frame that leaves the memory window (already in the file) released. A write that fails
-  /// closes the file and is returned; the frame stays in memory.
+  /// closes the file and is returned; the frame stays in memory. Under MPI, collective.
   Status add(StateFrame frame);
   void close();
 
@@ -59,16 +62,20 @@ public:
   bool inMemory(int index) const;
   /// Frame `index` as kept: whole when inMemory(index), else only its time and energy.
   const StateFrame& frame(int index) const { return Frames.at(index); }
-  /// Frame `index` whole, from memory or read back from the state file.
+  /// Frame `index` whole, from memory or read back from the state file (under MPI,
+  /// collective when it is not in memory: every rank reads its piece).
   Status read(int index, StateFrame& out) const;
   /// The newest frame's size (every frame has the same).
   double bytesPerFrame() const { return Frames.empty() ? 0 : bytesOf(Frames.back()); }
+  /// The whole run's header, and that of this rank's strands (the same without MPI).
   const StateHeader& header() const { return Header; }
+  const StateHeader& piece() const { return Piece; }
 
 private:
   void release(int index);
-  StateHeader Header;
+  StateHeader Header, Piece;
   StorageOptions Options;
+  Ranks Shared; ///< the ranks of the run (one: this process)
   std::vector<StateFrame> Frames;
   int Window = std::numeric_limits<int>::max();
   std::unique_ptr<StateFileWriter> Writer;

@@ -167,6 +167,10 @@ Status drawGuides(const StateHeader& header, const StateFrame& frame, int points
     return Status::Error("the frame at t = " + std::to_string(frame.time) +
                          " s does not match its header (points, q or qdot).");
   }
+  if (strands == 0)
+  {
+    return Status::Ok(); // a piece of a run without strands (an MPI rank's): nothing to draw
+  }
   const bool roots = header.rootFrames && frame.rootFrames.size() == strands * RootFrameValues &&
                      frame.rootVelocities.size() == strands * RootVelocityValues;
   if (!roots)

@@ -3,10 +3,14 @@
 #include "collision/PosedPart.h"
 #include "common/Machine.h"
 #include "common/Parallel.h"
+#include "common/Partition.h"
 #include "strands/StrandParameters.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
+#include <limits>
 #include <sstream>
 
 namespace hair
@@ -25,9 +29,21 @@ struct Simulation::Impl
   std::vector<std::map<std::string, double>> Steps; ///< the model's stepStatistics per frame
   Status Failed; ///< set when a step failed: the strands may then be at different times
   std::vector<GroomReport> Reports;
+  /// This rank's strands: their numbers in the run, increasing (every strand without MPI).
+  std::vector<std::int64_t> Mine;
+  /// Every strand's rank and root at rest (the same on every rank), and the ghosts planned
+  /// last (for GhostLevels levels).
+  std::vector<int> Owner;
+  std::vector<Eigen::Vector3d> Roots;
+  mutable GhostStrands Ghosts;
+  mutable int GhostLevels = 0;
+  SimulationTimings Timings;
+  double Time = 0; ///< the run's time (a rank without strands has no model time)
 
+  const Ranks& ranks() const { return Options.ranks; }
   /// The model's state now as a frame, with the penetration into the scene's parts at the
-  /// same time (the same parts, poses and look-ups for every model).
+  /// same time (the same parts, poses and look-ups for every model). Under MPI (collective)
+  /// this rank's piece, with the whole run's time, energy and penetration.
   StateFrame record();
   void header(const std::vector<GuideStrand>& strands);
   /// The header's /groom: curves, rest coordinates and reports, when any guide has a groom
@@ -68,10 +84,34 @@ void Simulation::Impl::groom(const std::vector<GuideStrand>& strands)
 StateFrame Simulation::Impl::record()
 {
   StateFrame f;
-  Model->writeFrame(f);
-  f.time = Model->time();
+  if (!Mine.empty())
+  {
+    Model->writeFrame(f);
+  }
+  else
+  {
+    f.pointData["curvature"];
+    f.pointData["twist"];
+  }
+  // Every rank with strands took the same steps to the same time; one without takes theirs.
+  f.time = ranks().max(Mine.empty() ? -std::numeric_limits<double>::infinity() : Model->time());
+  Time = f.time;
   f.energy = Model->energy().values();
   Steps.push_back(Model->stepStatistics());
+  if (ranks().parallel() && !Steps.back().empty())
+  {
+    // The whole run's: means over the strands weighted by each rank's strands, the share of
+    // first-order steps weighted by its sub-steps, the largest error estimate.
+    std::map<std::string, double>& steps = Steps.back();
+    const double n = double(Mine.size());
+    double sums[4] = {steps["substeps"] * n, steps["rejected_substeps"] * n,
+                      steps["first_order_share"] * steps["substeps"] * n, n};
+    ranks().sum(sums, 4);
+    steps["substeps"] = sums[3] > 0 ? sums[0] / sums[3] : 0.0;
+    steps["rejected_substeps"] = sums[3] > 0 ? sums[1] / sums[3] : 0.0;
+    steps["first_order_share"] = sums[0] > 0 ? sums[2] / sums[0] : 0.0;
+    steps["error_estimate"] = ranks().max(steps["error_estimate"]);
+  }
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
   std::vector<double>& depthOf = f.pointData["contact_depth"];
@@ -92,6 +132,25 @@ StateFrame Simulation::Impl::record()
     count += inside[i];
     deepest = std::max(deepest, depthOf[i]);
   }
+  if (ranks().parallel())
+  {
+    // The whole run's energy (each rank's sums added: the same terms, in the map's order on
+    // every rank) and penetration.
+    std::vector<double> sums;
+    for (const auto& [name, value] : f.energy)
+    {
+      sums.push_back(value);
+    }
+    sums.push_back(double(count));
+    ranks().sum(sums.data(), int(sums.size()));
+    std::size_t i = 0;
+    for (auto& [name, value] : f.energy)
+    {
+      value = sums[i++];
+    }
+    count = static_cast<long>(std::llround(sums[i]));
+    deepest = ranks().max(deepest);
+  }
   Contacts.push_back(count);
   Depth.push_back(deepest);
   return f;
@@ -100,6 +159,24 @@ StateFrame Simulation::Impl::record()
 void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
 {
   Model->describe(Header);
+  if (ranks().parallel())
+  {
+    // The model described this rank's strands: the run's offsets from every rank's counts,
+    // and the coordinates per strand of the ranks that have strands.
+    std::vector<std::int64_t> points(strands.size(), 0);
+    for (std::size_t i = 0; i < Mine.size(); ++i)
+    {
+      points[Mine[i]] = Header.offsets[i + 1] - Header.offsets[i];
+    }
+    ranks().sum(points.data(), int(points.size()));
+    Header.offsets.assign(1, 0);
+    for (std::int64_t n : points)
+    {
+      Header.offsets.push_back(Header.offsets.back() + n);
+    }
+    Header.coordinatesPerStrand =
+        static_cast<int>(ranks().max(double(Header.coordinatesPerStrand)));
+  }
   for (const StrandParameter& p : strandParameters())
   {
     std::vector<double>& values = Header.strandParameters[p.file];
@@ -133,6 +210,76 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
   at["motion_frequency"] = m.frequency();
   at["motion_fade"] = m.fade();
 }
+
+std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
+                              int ranks)
+{
+  std::vector<Eigen::Vector3d> roots;
+  std::vector<double> costs;
+  for (const GuideStrand& g : guides)
+  {
+    roots.push_back(g.root);
+    costs.push_back(model.stepCost(g));
+  }
+  return bisect(roots, costs, ranks);
+}
+
+namespace
+{
+/// Wall time and the process's CPU time since the last lap.
+struct Clock
+{
+  std::chrono::steady_clock::time_point Wall = std::chrono::steady_clock::now();
+  std::clock_t Cpu = std::clock();
+  void lap(double& wall, double& cpu)
+  {
+    const auto w = std::chrono::steady_clock::now();
+    const std::clock_t c = std::clock();
+    wall += std::chrono::duration<double>(w - Wall).count();
+    cpu += double(c - Cpu) / CLOCKS_PER_SEC;
+    Wall = w;
+    Cpu = c;
+  }
+};
+
+/// Under MPI, every rank must be given the same guides (the pipeline gives each rank the
+/// whole strands input): their number and a sum of their every number, compared.
+Status sameOnEveryRank(const std::vector<GuideStrand>& strands, const Ranks& ranks)
+{
+  if (!ranks.parallel())
+  {
+    return Status::Ok();
+  }
+  double sum = 0;
+  for (std::size_t k = 0; k < strands.size(); ++k)
+  {
+    const GuideStrand& g = strands[k];
+    const HairParameters& h = g.hair;
+    const double values[] = {
+        g.root.x(),         g.root.y(),          g.root.z(),    g.growth.x(),  g.growth.y(),
+        g.growth.z(),       g.normal.x(),        g.normal.y(),  g.normal.z(),  g.length,
+        double(g.elements), double(g.seed),      h.radius,      h.ellipticity, h.youngModulus,
+        h.poissonRatio,     h.density,           h.helixRadius, h.helixStep,   h.internalFriction,
+        h.airFriction,      h.curvatureVariation};
+    double i = 1;
+    for (double v : values)
+    {
+      sum += v * (double(k) + i++ / 32);
+    }
+  }
+  double lo[2] = {double(strands.size()), sum}, hi[2] = {lo[0], lo[1]};
+  ranks.min(lo, 2);
+  ranks.max(hi, 2);
+  if (lo[0] != hi[0] || !(lo[1] == hi[1] || (std::isnan(lo[1]) && std::isnan(hi[1]))))
+  {
+    return Status::Error("the ranks were given different guide strands (between " +
+                         std::to_string(long(lo[0])) + " and " + std::to_string(long(hi[0])) +
+                         " strands, or different values): under MPI every rank must be given the "
+                         "whole, same strands input.");
+  }
+  return Status::Ok();
+}
+} // namespace
 
 Simulation::Simulation() : P(std::make_unique<Impl>()) {}
 Simulation::~Simulation() = default;
@@ -205,25 +352,79 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   {
     return s;
   }
-  if (Status s = checkRunMemory(strands, options, physicalMemoryBytes()); !s)
+  const Ranks& ranks = options.ranks;
+  if (Status s = sameOnEveryRank(strands, ranks); !s)
   {
     return s;
+  }
+  if (ranks.parallel())
+  {
+    // The groom's fit and rest shape are made per strand on the rank that holds it, but its
+    // reports and /groom are written from one rank's guides: not yet shared among ranks.
+    for (std::size_t k = 0; k < strands.size(); ++k)
+    {
+      if (!strands[k].curve.empty() || strands[k].restShape == RestShape::SagFree)
+      {
+        return Status::Error(
+            "strand " + std::to_string(k) + " has a groom (" +
+            (strands[k].curve.empty() ? std::string("a sag-free rest shape")
+                                      : std::string("a guide curve")) +
+            "): grooms are not available under MPI yet (" + std::to_string(ranks.size()) +
+            " ranks). Run on one rank (without mpirun, or mpirun -np 1), or grow the guides "
+            "as grown.");
+      }
+    }
   }
   r->Options = options;
   r->World = scene;
   r->Model = makeModel(options);
-  if (Status s = r->Model->initialize(strands, scene, options.run()); !s)
+  // This rank's share of the strands (all of them without MPI).
+  std::vector<GuideStrand> mine;
+  RunSettings run = options.run();
+  const std::vector<int> owner = ranks.parallel() ? shareStrands(strands, *r->Model, ranks.size())
+                                                  : std::vector<int>(strands.size(), 0);
+  r->Owner = owner;
+  for (const GuideStrand& g : strands)
+  {
+    r->Roots.push_back(g.root);
+  }
+  for (std::size_t k = 0; k < strands.size(); ++k)
+  {
+    if (owner[k] == ranks.rank())
+    {
+      r->Mine.push_back(std::int64_t(k));
+      run.strandIds.push_back(int(k));
+      mine.push_back(strands[k]);
+    }
+  }
+  // Under MPI each rank holds the model and the frames of its share only: its share is what
+  // must fit (ranks that share a machine are not added up).
+  if (Status s = ranks.agree(mine.empty() ? Status::Ok()
+                                          : checkRunMemory(mine, options, physicalMemoryBytes()));
+      !s)
+  {
+    return s;
+  }
+  Status built = mine.empty() ? Status::Ok() : r->Model->initialize(mine, scene, run);
+  if (Status s = ranks.agree(built); !s)
   {
     return s;
   }
   // The guides as the model built them (a groom's fitted length and root tangent), so that
   // the file draws the strands again as they ran, and the groom with its reports.
-  std::vector<GuideStrand> built = strands;
-  r->Model->groomed(built, r->Reports);
-  r->header(built);
-  r->groom(built);
+  // (Under MPI no guide has a groom, and a model knows only its rank's share.)
+  std::vector<GuideStrand> asBuilt = strands;
+  if (!ranks.parallel())
+  {
+    r->Model->groomed(asBuilt, r->Reports);
+  }
+  r->header(asBuilt);
+  r->groom(asBuilt);
   r->Extra = r->Model->energy().extraNames();
-  if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage); !s)
+  FileSharing sharing;
+  sharing.ranks = ranks;
+  sharing.strands = r->Mine;
+  if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage, sharing); !s)
   {
     return s;
   }
@@ -242,21 +443,35 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
     return P->Failed; // a failed step leaves strands at different times: stay stopped
   }
   const int first = numberOfFrames();
+  const Ranks& ranks = P->ranks();
+  SimulationTimings& times = P->Timings;
   for (int f = first; f < frames; ++f)
   {
-    if (Status s = P->Model->advanceTo(f * P->Options.frameInterval); !s)
+    Clock clock;
+    Status stepped =
+        P->Mine.empty() ? Status::Ok() : P->Model->advanceTo(f * P->Options.frameInterval);
+    clock.lap(times.stepWall, times.stepCpu);
+    double unused = 0;
+    Status agreed = ranks.agree(stepped);
+    clock.lap(times.waitWall, unused);
+    if (!agreed)
     {
-      P->Failed = s;
-      return s;
+      P->Failed = agreed;
+      return agreed;
     }
-    if (Status s = P->Store.add(P->record()); !s)
+    StateFrame recorded = P->record();
+    clock.lap(times.recordWall, times.recordCpu);
+    Status stored = P->Store.add(std::move(recorded));
+    clock.lap(times.storeWall, times.storeCpu);
+    ++times.frames;
+    if (!stored)
     {
-      P->Failed = s;
-      return s;
+      P->Failed = stored;
+      return stored;
     }
-    if (progress && !progress(double(f - first + 1) / (frames - first)))
+    if (ranks.any(progress && !progress(double(f - first + 1) / (frames - first))))
     {
-      return Status::Error("the simulation was aborted at t = " + std::to_string(P->Model->time()) +
+      return Status::Error("the simulation was aborted at t = " + std::to_string(P->Time) +
                            " s; the frames computed so far are kept.");
     }
   }
@@ -297,6 +512,34 @@ Status Simulation::checkMemory(int frames, double availableBytes) const
 const StateHeader& Simulation::header() const
 {
   return P->Header;
+}
+
+const StateHeader& Simulation::piece() const
+{
+  return P->Store.piece();
+}
+
+Status Simulation::ghostFrame(int index, int levels, StateHeader& header, StateFrame& frame) const
+{
+  const Ranks& ranks = P->ranks();
+  if (!P->Model || !ranks.parallel() || levels < 1)
+  {
+    header = P->Header.piece({});
+    frame = StateFrame();
+    return Status::Ok();
+  }
+  if (levels != P->GhostLevels)
+  {
+    P->Ghosts.plan(P->Roots, P->Owner, ranks.rank(), 3.0 * levels * typicalSpacing(P->Roots));
+    P->GhostLevels = levels;
+  }
+  StateFrame mine;
+  if (Status s = readFrame(index, mine); !s)
+  {
+    return s;
+  }
+  header = P->Header.piece(P->Ghosts.ghosts());
+  return P->Ghosts.exchange(ranks, P->Header, piece(), mine, frame);
 }
 
 const std::vector<std::string>& Simulation::extraEnergyTerms() const
@@ -344,6 +587,11 @@ const StrandModel& Simulation::model() const
 const std::vector<GroomReport>& Simulation::groomReports() const
 {
   return P->Reports;
+}
+
+const SimulationTimings& Simulation::timings() const
+{
+  return P->Timings;
 }
 
 } // namespace hair

@@ -69,12 +69,24 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     return s;
   }
   Run = run;
+  Time = 0;
   World = scene;
   HairHairWork = HairHairDissipated = 0;
   Options.contacts.lookAhead = run.timeStep;
   if (Status s = Body.setParameters(Options.contacts); !s)
   {
     return Status::Error("hair–body contacts: " + s.message());
+  }
+  if (Options.hairHairEnabled && run.ranks.parallel())
+  {
+    // Each rank would find contacts among its own strands only: a run that silently differs
+    // from the same run on one rank. The ghost strands of the neighbouring ranks
+    // (simulation/GhostStrands.h) are there, but the contacts do not use them yet
+    // (docs/mpi.md, "Hair–hair contacts across ranks").
+    return Status::Error(
+        "hair–hair contacts: not available under MPI yet (" + std::to_string(run.ranks.size()) +
+        " ranks): each rank would only see contacts among its own strands. Run on one rank "
+        "(without mpirun, or mpirun -np 1), or turn hair–hair contacts off.");
   }
   if (Options.hairHairEnabled)
   {
@@ -110,11 +122,12 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   ContactForces restContacts;
   if (Options.contacts.enabled && !still.empty())
   {
-    restContacts = [this, &still, &guides](int strand, double,
-                                           const std::vector<StrandSample>& samples,
+    // Called by buildStrand's wrapper with the strand's place k here (the strand itself
+    // would give its id, its number in the run, which under MPI is not its place).
+    restContacts = [this, &still, &guides](int k, double, const std::vector<StrandSample>& samples,
                                            std::vector<ContactResponse>& response)
     {
-      Body.respond(samples, guides[strand].hair.linearDensity(), still.data(),
+      Body.respond(samples, guides[k].hair.linearDensity(), still.data(),
                    static_cast<int>(still.size()), response);
     };
   }
@@ -140,12 +153,14 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
       return s;
     }
   }
-  for (SuperHelix& h : Helices)
+  for (std::size_t k = 0; k < Helices.size(); ++k)
   {
-    // The model lives on the heap and owns the strands: `this` outlives the hook.
-    h.setContactForces([this](int strand, double t, const std::vector<StrandSample>& samples,
-                              std::vector<ContactResponse>& response)
-                       { respond(strand, t, samples, response); });
+    // The model lives on the heap and owns the strands: `this` outlives the hook. The hook
+    // is told the strand's id (its number in the run); k is its place here.
+    Helices[k].setContactForces(
+        [this, k](int id, double t, const std::vector<StrandSample>& samples,
+                  std::vector<ContactResponse>& response)
+        { respond(k, id, t, samples, response); });
   }
   return Status::Ok();
 }
@@ -154,7 +169,9 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
                                     const Eigen::Vector3d& uniformWind,
                                     const ContactForces& restContacts)
 {
-  const std::string name = "strand " + std::to_string(k);
+  // The run's number of the strand (under MPI this rank has a share of the guides).
+  const int id = Run.strandId(k);
+  const std::string name = "strand " + std::to_string(id);
   // A groom: the Super-Helix fitted to its curve gives the length, the root frame and q.
   SuperHelixFit fit;
   Eigen::Matrix3d frame = g.rootFrame();
@@ -173,8 +190,8 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
   }
   StrandSpec spec = StrandSpec::uniform(length, g.elements, g.hair);
   spec.name = name;
-  spec.id = k;
-  spec.seed = g.seed + static_cast<std::uint32_t>(k);
+  spec.id = id;
+  spec.seed = g.seed + static_cast<std::uint32_t>(id);
   spec.gravity = World.gravity;
   if (uniformAir)
   {
@@ -206,8 +223,15 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
   }
   // Sag-free: the natural shape that holds the shape at t = 0 (the groom, or the grown
   // natural helix), or the closest stable shape where none can.
+  ContactForces contacts;
+  if (restContacts)
+  {
+    contacts = [&restContacts, k](int, double t, const std::vector<StrandSample>& samples,
+                                  std::vector<ContactResponse>& response)
+    { restContacts(k, t, samples, response); };
+  }
   SagFreeResult r;
-  if (Status s = sagFree(spec, h.q(), restContacts, Options.sagFree, r); !s)
+  if (Status s = sagFree(spec, h.q(), contacts, Options.sagFree, r); !s)
   {
     return Status::Error(name + ": " + s.message());
   }
@@ -245,7 +269,8 @@ void SuperHelixModel::restCoordinates(std::vector<double>& values) const
   }
 }
 
-void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSample>& samples,
+void SuperHelixModel::respond(std::size_t strand, int id, double t,
+                              const std::vector<StrandSample>& samples,
                               std::vector<ContactResponse>& response) const
 {
   if (Options.contacts.enabled && !World.parts.empty())
@@ -257,20 +282,20 @@ void SuperHelixModel::respond(int strand, double t, const std::vector<StrandSamp
   }
   if (Options.additionalContacts)
   {
-    Options.additionalContacts(strand, t, samples, response);
+    Options.additionalContacts(id, t, samples, response);
   }
 }
 
 double SuperHelixModel::time() const
 {
-  return Helices.empty() ? 0 : Helices[0].time();
+  return Time;
 }
 
 Status SuperHelixModel::advanceTo(double target)
 {
   const int steps =
       std::max(1, static_cast<int>(std::ceil(Run.frameInterval / Run.timeStep - 1e-9)));
-  const double dt = (target - time()) / steps;
+  const double dt = (target - Time) / steps;
   Substeps = Rejected = FirstOrder = 0;
   FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
@@ -305,7 +330,7 @@ Status SuperHelixModel::advanceTo(double target)
         else if (h > 0.5 * remaining)
           h = 0.5 * remaining;
       }
-      const double t0 = time();
+      const double t0 = Time + i * dt + (dt - remaining);
       if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
       {
         return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
@@ -328,6 +353,7 @@ Status SuperHelixModel::advanceTo(double target)
       }
     }
   }
+  Time = target;
   return Status::Ok();
 }
 
@@ -453,6 +479,19 @@ void SuperHelixModel::writeFrame(StateFrame& f) const
     f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
     appendRoot(roots[k], f.rootFrames, f.rootVelocities);
   }
+}
+
+double SuperHelixModel::stepCost(const GuideStrand& g) const
+{
+  // A step costs about Element per element plus Sample per quadrature sample: the line
+  // through the four presets' steps at N = 10 (bench_superhelix BM_Step and its samples
+  // counter, docs/benchmarks.md "Cost of a strand"). The samples are those the quadrature
+  // takes for the guide's natural curl, as at rest.
+  constexpr double Element = 1.43, Sample = 0.108; // µs
+  const QuadratureChooser chooser(Options.quadratureTolerance);
+  const double turning = g.hair.naturalCurvature().norm() * g.length / g.elements;
+  const int samples = g.elements * chooser.choose(turning).samples();
+  return Element * g.elements + Sample * samples;
 }
 
 EnergyBudget SuperHelixModel::energy() const

@@ -74,6 +74,9 @@ public:
   EnergyBudget energy() const override;
   void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const override;
   void restCoordinates(std::vector<double>& values) const override;
+  /// µs of a step on the benchmark machine: per element and per quadrature sample of the
+  /// guide's natural curl (docs/benchmarks.md).
+  double stepCost(const GuideStrand& guide) const override;
   /// Over the steps since the previous frame (advanceTo): "substeps", the (sub-)steps each
   /// strand took, mean over the strands (1 per step with fixed steps); "rejected_substeps",
   /// the sub-steps the accuracy control computed and took again smaller, mean over the
@@ -91,7 +94,8 @@ private:
   /// Strand k from guide g: fitted to its groom, made sag-free when asked.
   Status buildStrand(int k, const GuideStrand& g, bool uniformAir,
                      const Eigen::Vector3d& uniformWind, const ContactForces& restContacts);
-  void respond(int strand, double t, const std::vector<StrandSample>& samples,
+  /// The contacts of Helices[strand], whose id (number in the run) is `id`.
+  void respond(std::size_t strand, int id, double t, const std::vector<StrandSample>& samples,
                std::vector<ContactResponse>& response) const;
 
   SuperHelixOptions Options;
@@ -111,6 +115,10 @@ private:
   double Substeps = 0, Rejected = 0, FirstOrder = 0;
   double NextCoupledStep = 0;     // with hair–hair contacts and a tolerance: the next sub-step
   std::vector<double> FrameError; // per strand
+  /// The run's time: every strand is stepped by the same dt from it. Not a strand's own
+  /// time, which sub-steps (a tolerance) leave off by round-off that differs from strand to
+  /// strand, so that which strand came first (under MPI: on which rank) changed every dt.
+  double Time = 0;
 };
 
 } // namespace hair

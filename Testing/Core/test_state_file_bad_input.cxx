@@ -421,6 +421,98 @@ TEST(StateFileBadInput, AFrameWithNaNIsRefusedAndTheOthersRead)
   EXPECT_NE(s.message().find(path), std::string::npos) << s.message();
 }
 
+/// A state file made version 2 (written by several MPI ranks, docs/state-file.md): the root
+/// says so and `/whole_frames` counts `whole` whole frames (−1: no /whole_frames; `type`
+/// and `dims` its type and shape).
+std::string version2(const std::string& name, long long whole, hid_t type = H5T_NATIVE_INT64,
+                     const std::vector<hsize_t>& dims = {})
+{
+  return edited(name,
+                [&](hid_t f)
+                {
+                  const int two = 2;
+                  attribute(f, "format_version", H5T_NATIVE_INT, -1, &two);
+                  if (whole >= 0)
+                  {
+                    const std::vector<long long> values(dims.empty() ? 1 : dims[0], whole);
+                    const std::vector<double> asDoubles(values.begin(), values.end());
+                    dataset(f, "/whole_frames", type, dims,
+                            type == H5T_NATIVE_DOUBLE ? static_cast<const void*>(asDoubles.data())
+                                                      : values.data());
+                  }
+                });
+}
+
+TEST(StateFileBadInput, Version2ReadsItsWholeFramesOnly)
+{
+  // /time and the frames are as long as the run; /whole_frames = 2 of the 3: frame 2 is
+  // not read, so its NaNs (a frame the ranks had not finished) are never seen.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::string path = version2("v2-two.h5", 2);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    poke(f, "/time", 2, nan);
+    poke(f, "/frames/positions", (2 * Strands * PerStrand + 1) * 3, nan);
+    H5Fclose(f);
+  }
+  StateFileReader r;
+  ASSERT_TRUE(r.open(path).ok());
+  EXPECT_EQ(r.version(), 2);
+  EXPECT_EQ(r.numberOfFrames(), 2);
+  StateFrame whole, piece;
+  ASSERT_TRUE(r.readFrame(1, whole).ok());
+  ASSERT_TRUE(r.readPiece(1, {1}, piece).ok());
+  ASSERT_EQ(piece.positions.size(), std::size_t(PerStrand));
+  EXPECT_EQ(piece.positions[0], whole.positions[PerStrand]);
+  EXPECT_FALSE(r.readFrame(2, whole).ok());
+  EXPECT_FALSE(r.readPiece(2, {1}, piece).ok());
+  // None whole yet (killed before the first frame's count): a file of no frames.
+  StateFileReader none;
+  ASSERT_TRUE(none.open(version2("v2-none.h5", 0)).ok());
+  EXPECT_EQ(none.numberOfFrames(), 0);
+}
+
+TEST(StateFileBadInput, Version2WithoutAValidCountIsRefused)
+{
+  expectRefused(version2("v2-missing.h5", -1), "/whole_frames is missing");
+  expectRefused(version2("v2-array.h5", 1, H5T_NATIVE_INT64, {2}),
+                "/whole_frames is not one integer");
+  expectRefused(version2("v2-double.h5", 1, H5T_NATIVE_DOUBLE), "/whole_frames is not one integer");
+  expectRefused(edited("v2-negative.h5",
+                       [&](hid_t f)
+                       {
+                         const int two = 2;
+                         const long long negative = -5;
+                         attribute(f, "format_version", H5T_NATIVE_INT, -1, &two);
+                         dataset(f, "/whole_frames", H5T_NATIVE_INT64, {}, &negative);
+                       }),
+                "/whole_frames is -5, not a count of whole frames");
+  expectRefused(version2("v2-beyond.h5", Frames + 1),
+                "/whole_frames is " + std::to_string(Frames + 1) +
+                    ", not a count of whole frames between 0 and the length of /time, " +
+                    std::to_string(Frames));
+  const int three = 3;
+  expectRefused(
+      edited("v3.h5", [&](hid_t f) { attribute(f, "format_version", H5T_NATIVE_INT, -1, &three); }),
+      "has state-file format version 3; this HairDynamics reads versions 1 and 2");
+}
+
+TEST(StateFileBadInput, APieceWithNaNIsRefused)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::string path =
+      edited("piece-nan.h5", [&](hid_t f)
+             { poke(f, "/frames/positions", (1 * Strands * PerStrand + PerStrand + 2) * 3, nan); });
+  StateFileReader r;
+  ASSERT_TRUE(r.open(path).ok());
+  StateFrame f;
+  EXPECT_TRUE(r.readPiece(1, {0}, f).ok()); // strand 0 of frame 1 is whole
+  const Status s = r.readPiece(1, {1}, f);
+  EXPECT_NE(s.message().find("frame 1 is damaged: the position of point 2 is NaN or infinite"),
+            std::string::npos)
+      << s.message();
+}
+
 TEST(StateFileBadInput, UnknownDatasetsAreSkipped)
 {
   // A later format (or another helper's writer) may add datasets: the reader skips what it

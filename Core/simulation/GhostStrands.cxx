@@ -1,0 +1,253 @@
+#include "simulation/GhostStrands.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace hair
+{
+
+namespace
+{
+/// Points hashed on a uniform grid of cells of side `cell`.
+struct PointGrid
+{
+  double Cell;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> Cells;
+
+  static std::int64_t key(std::int64_t i, std::int64_t j, std::int64_t k)
+  {
+    return (i & 0x1fffff) | ((j & 0x1fffff) << 21) | ((k & 0x1fffff) << 42);
+  }
+  Eigen::Array3i cellOf(const Eigen::Vector3d& p) const
+  {
+    return (p.array() / Cell).floor().cast<int>();
+  }
+  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell) : Cell(cell)
+  {
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+      const Eigen::Array3i c = cellOf(points[i]);
+      Cells[key(c.x(), c.y(), c.z())].push_back(i);
+    }
+  }
+  /// Calls f(i) for every point in the cells around p (those within one cell of it).
+  template <typename F>
+  void around(const Eigen::Vector3d& p, F f) const
+  {
+    const Eigen::Array3i c = cellOf(p);
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j)
+        for (int k = -1; k <= 1; ++k)
+        {
+          const auto it = Cells.find(key(c.x() + i, c.y() + j, c.z() + k));
+          if (it != Cells.end())
+            for (std::size_t n : it->second)
+              f(n);
+        }
+  }
+};
+
+void append(std::vector<char>& out, const double* values, std::size_t count)
+{
+  const std::size_t at = out.size();
+  out.resize(at + count * sizeof(double));
+  if (count > 0)
+  {
+    std::memcpy(out.data() + at, values, count * sizeof(double));
+  }
+}
+} // namespace
+
+double typicalSpacing(const std::vector<Eigen::Vector3d>& roots)
+{
+  if (roots.size() < 2)
+  {
+    return 0;
+  }
+  // A grid of cells about the size of the mean spacing on the roots' box, searched outwards
+  // ring by ring until a neighbour is found and the ring is beyond it.
+  Eigen::Vector3d lo = roots[0], hi = roots[0];
+  for (const Eigen::Vector3d& r : roots)
+  {
+    lo = lo.cwiseMin(r);
+    hi = hi.cwiseMax(r);
+  }
+  const double extent = std::max((hi - lo).maxCoeff(), 1e-9);
+  const double cell = std::max(extent / std::sqrt(double(roots.size())), extent * 1e-6);
+  const PointGrid grid(roots, cell);
+  std::vector<double> nearest(roots.size());
+  for (std::size_t i = 0; i < roots.size(); ++i)
+  {
+    double best = INFINITY;
+    for (int ring = 1; ring < 1 << 20; ring *= 2)
+    {
+      const Eigen::Array3i c = grid.cellOf(roots[i]);
+      for (int a = -ring; a <= ring; ++a)
+        for (int b = -ring; b <= ring; ++b)
+          for (int d = -ring; d <= ring; ++d)
+          {
+            const auto it = grid.Cells.find(PointGrid::key(c.x() + a, c.y() + b, c.z() + d));
+            if (it == grid.Cells.end())
+              continue;
+            for (std::size_t n : it->second)
+              if (n != i)
+                best = std::min(best, (roots[n] - roots[i]).norm());
+          }
+      if (best <= ring * cell)
+        break;
+    }
+    nearest[i] = best;
+  }
+  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
+void GhostStrands::plan(const std::vector<Eigen::Vector3d>& roots, const std::vector<int>& owner,
+                        int rank, double reach)
+{
+  Partners.clear();
+  Send.clear();
+  Receive.clear();
+  Ghosts.clear();
+  if (!(reach > 0) || roots.empty())
+  {
+    return;
+  }
+  const PointGrid grid(roots, reach);
+  std::map<int, std::set<std::int64_t>> send, receive;
+  for (std::size_t k = 0; k < roots.size(); ++k)
+  {
+    if (owner[k] != rank)
+    {
+      continue;
+    }
+    grid.around(roots[k],
+                [&](std::size_t n)
+                {
+                  if (owner[n] != rank && (roots[n] - roots[k]).norm() <= reach)
+                  {
+                    receive[owner[n]].insert(std::int64_t(n));
+                    send[owner[n]].insert(std::int64_t(k));
+                  }
+                });
+  }
+  for (const auto& [partner, strands] : receive)
+  {
+    Partners.push_back(partner);
+    Receive.emplace_back(strands.begin(), strands.end());
+    Send.emplace_back(send[partner].begin(), send[partner].end());
+    Ghosts.insert(Ghosts.end(), strands.begin(), strands.end());
+  }
+  std::sort(Ghosts.begin(), Ghosts.end());
+}
+
+Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const StateHeader& mine,
+                              const StateFrame& piece, StateFrame& ghosts) const
+{
+  const std::size_t c = std::size_t(std::max(0, run.coordinatesPerStrand));
+  const bool roots = !piece.rootFrames.empty();
+  // Strand k of `h` in `f`, packed: points, velocities, per-point arrays (by name), q, q̇,
+  // root pose and rates.
+  auto pack = [&](const StateHeader& h, const StateFrame& f, std::size_t k, std::vector<char>& out)
+  {
+    const std::int64_t first = h.offsets[k], n = h.offsets[k + 1] - first;
+    append(out, f.positions[first].data(), 3 * std::size_t(n));
+    append(out, f.velocities[first].data(), 3 * std::size_t(n));
+    for (const auto& [name, values] : f.pointData)
+    {
+      append(out, values.data() + first, std::size_t(n));
+    }
+    append(out, f.q.data() + k * c, c);
+    append(out, f.qdot.data() + k * c, c);
+    if (roots)
+    {
+      append(out, f.rootFrames.data() + k * RootFrameValues, RootFrameValues);
+      append(out, f.rootVelocities.data() + k * RootVelocityValues, RootVelocityValues);
+    }
+  };
+  std::unordered_map<std::int64_t, std::size_t> place; // own strand number -> index in `mine`
+  for (std::size_t k = 0; k < mine.numberOfStrands(); ++k)
+  {
+    place[mine.strandId(k)] = k;
+  }
+  std::vector<std::vector<char>> out(Partners.size()), in;
+  for (std::size_t p = 0; p < Partners.size(); ++p)
+  {
+    for (std::int64_t id : Send[p])
+    {
+      pack(mine, piece, place.at(id), out[p]);
+    }
+  }
+  ranks.exchange(Partners, out, in);
+
+  // The ghosts' frame, strand by strand in increasing numbers.
+  const StateHeader h = run.piece(Ghosts);
+  ghosts = StateFrame();
+  ghosts.time = piece.time;
+  ghosts.positions.resize(h.numberOfPoints());
+  ghosts.velocities.resize(h.numberOfPoints());
+  for (const auto& [name, values] : piece.pointData)
+  {
+    ghosts.pointData[name].resize(h.numberOfPoints());
+  }
+  ghosts.q.resize(h.numberOfStrands() * c);
+  ghosts.qdot.resize(h.numberOfStrands() * c);
+  if (roots)
+  {
+    ghosts.rootFrames.resize(h.numberOfStrands() * RootFrameValues);
+    ghosts.rootVelocities.resize(h.numberOfStrands() * RootVelocityValues);
+  }
+  std::unordered_map<std::int64_t, std::size_t> ghostPlace;
+  for (std::size_t k = 0; k < Ghosts.size(); ++k)
+  {
+    ghostPlace[Ghosts[k]] = k;
+  }
+  Status received = Status::Ok();
+  for (std::size_t p = 0; p < Partners.size() && received; ++p)
+  {
+    std::size_t at = 0;
+    auto take = [&](double* to, std::size_t count) -> bool
+    {
+      if (at + count * sizeof(double) > in[p].size())
+      {
+        return false;
+      }
+      if (count > 0)
+      {
+        std::memcpy(to, in[p].data() + at, count * sizeof(double));
+      }
+      at += count * sizeof(double);
+      return true;
+    };
+    for (std::int64_t id : Receive[p])
+    {
+      const std::size_t k = ghostPlace.at(id);
+      const std::int64_t first = h.offsets[k], n = h.offsets[k + 1] - first;
+      bool ok = take(ghosts.positions[first].data(), 3 * std::size_t(n)) &&
+                take(ghosts.velocities[first].data(), 3 * std::size_t(n));
+      for (auto& [name, values] : ghosts.pointData)
+      {
+        ok = ok && take(values.data() + first, std::size_t(n));
+      }
+      ok = ok && take(ghosts.q.data() + k * c, c) && take(ghosts.qdot.data() + k * c, c);
+      if (roots)
+      {
+        ok = ok && take(ghosts.rootFrames.data() + k * RootFrameValues, RootFrameValues) &&
+             take(ghosts.rootVelocities.data() + k * RootVelocityValues, RootVelocityValues);
+      }
+      if (!ok)
+      {
+        received = Status::Error("the ghost strands from rank " + std::to_string(Partners[p]) +
+                                 " came short: the ranks' runs differ.");
+        break;
+      }
+    }
+  }
+  return ranks.agree(received);
+}
+
+} // namespace hair

@@ -1,0 +1,135 @@
+"""A run under mpirun killed with SIGKILL leaves a state file that reads back to its last whole
+frame (docs/state-file.md, "Crash safety").
+
+Runs mpi_write_frames.py on 2 ranks to the end (the reference: 2 s, 61 frames), then again
+for an hour into another file, in a session of its own; once the file counts at least
+12 whole frames, and a little later (so that the ranks are somewhere in a later frame),
+SIGKILL goes to mpirun and both ranks at once. The killed file is then read
+with h5py by the documented procedure and with the project's reader (Hair State Reader, in
+pvpython): every whole frame, every dataset, equals the reference's same frame exactly (the
+same run: without hair-hair contacts, bit for bit), and the reader reports exactly the whole
+frames.
+
+Run: /usr/bin/python3 Testing/Python/mpi_killed_run.py <mpirun> <pvbatch> <pvpython> <HairDynamics.so> <work dir>
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+mpirun, pvbatch, pvpython, plugin, work = sys.argv[1:6]
+HERE = os.path.dirname(os.path.abspath(__file__))
+os.makedirs(work, exist_ok=True)
+reference, killed = os.path.join(work, "reference.h5"), os.path.join(work, "killed.h5")
+for path in (reference, killed):
+    if os.path.exists(path):
+        os.remove(path)
+failures = []
+
+
+def check(condition, what):
+    print(("ok   " if condition else "FAIL ") + what, flush=True)
+    if not condition:
+        failures.append(what)
+
+
+def command(state, duration):
+    return [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric",
+            os.path.join(HERE, "mpi_write_frames.py"), plugin, state, str(duration)]
+
+
+def whole_frames(path):
+    """/whole_frames of a file of format_version 2 (read while the ranks write it)."""
+    try:
+        with h5py.File(path, "r") as f:
+            return int(f["whole_frames"][()])
+    except (OSError, KeyError):
+        return -1  # not created yet, or its structure not yet flushed
+
+
+done = subprocess.run(command(reference, 2), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+check(done.returncode == 0, f"the reference run of 2 s ends normally ({done.returncode})")
+
+run = subprocess.Popen(command(killed, 3600), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                       start_new_session=True)
+deadline = time.time() + 240
+while whole_frames(killed) < 12 and run.poll() is None and time.time() < deadline:
+    time.sleep(0.05)
+time.sleep(0.3)  # into a later frame
+
+
+def session(sid):
+    """The live processes of the session mpirun leads (OpenMPI puts each rank in a process
+    group of its own, so a signal to mpirun's group would miss them; they stay in its
+    session). Zombies, dead and waiting to be reaped, are not counted."""
+    out = subprocess.run(["ps", "-s", str(sid), "-o", "pid=,stat="], capture_output=True, text=True)
+    return [int(line.split()[0]) for line in out.stdout.splitlines()
+            if line.split() and not line.split()[1].startswith("Z")]
+
+
+processes = session(run.pid)
+for pid in processes:
+    os.kill(pid, signal.SIGKILL)  # mpirun and every rank, at once
+run.wait()
+before = whole_frames(killed)
+check(run.returncode == -signal.SIGKILL and len(processes) >= 3,
+      f"mpirun and its ranks ({len(processes)} processes) killed with SIGKILL after {before} "
+      f"whole frames")
+deadline = time.time() + 10  # SIGKILL is not refused, but dying takes the kernel a moment
+while session(run.pid) and time.time() < deadline:
+    time.sleep(0.1)
+left = session(run.pid)
+check(not left, f"no process of the killed run is left ({left})")
+
+with h5py.File(killed, "r") as k, h5py.File(reference, "r", swmr=True) as r:
+    T = int(k["whole_frames"][()])
+    R = int(r["whole_frames"][()]) if r.attrs["format_version"] == 2 else r["time"].shape[0]
+    check(k.attrs["format_version"] == 2 and T == before and 12 <= T <= R,
+          f"h5py opens the killed file: {T} whole frames, as counted when it was killed "
+          f"(format_version {k.attrs['format_version']})")
+    worst, names = 0.0, []
+    for group in ("frames", "energy"):
+        for name, d in k[group].items():
+            names.append(f"{group}/{name}")
+            worst = max(worst, float(np.abs(d[:T] - r[group][name][:T]).max()))
+    worst = max(worst, float(np.abs(k["time"][:T] - r["time"][:T]).max()))
+    check(worst == 0, f"every whole frame of {len(names)} datasets and /time equals the reference's "
+          f"(largest difference {worst})")
+    # Frame T was being written (its time may be there); none after it was begun.
+    tail = k["time"][T + 1:]
+    check(tail.size > 0 and np.isnan(tail).all(),
+          f"/time after the frame being written holds NaN ({np.count_nonzero(np.isnan(tail))} of "
+          f"{tail.size}), which no reader takes for a frame")
+    expected_last = k["frames/positions"][T - 1]
+
+# The project's reader, in pvpython: exactly the whole frames, the last one as h5py reads it.
+script = f"""
+import sys
+import numpy as np
+from paraview import servermanager
+from paraview.simple import LoadPlugin
+from vtkmodules.util.numpy_support import vtk_to_numpy
+LoadPlugin({plugin!r}, remote=False, ns=globals())
+reader = HairStateReader(FileName={killed!r}, PointsPerElement=4)
+times = list(reader.TimestepValues)
+reader.UpdatePipeline(times[-1])
+data = servermanager.Fetch(reader)
+np.save({os.path.join(work, 'last.npy')!r}, vtk_to_numpy(data.GetPoints().GetData()))
+print(len(times))
+"""
+out = subprocess.run([pvpython, "-c", script], capture_output=True, text=True)
+frames = int(out.stdout.strip().splitlines()[-1]) if out.returncode == 0 and out.stdout.strip() else -1
+check(frames == T, f"Hair State Reader opens the killed file: {frames} time steps, the whole frames")
+if frames == T:
+    last = np.load(os.path.join(work, "last.npy"))
+    difference = float(np.abs(last - expected_last).max())
+    check(difference == 0, f"Hair State Reader's last frame is the file's (largest difference {difference} m)")
+else:
+    print(out.stdout[-2000:], out.stderr[-2000:])
+
+print(f"{len(failures)} failed" if failures else "all checks passed")
+sys.exit(1 if failures else 0)
