@@ -5,7 +5,10 @@
 # full head of rendered hair from the guides.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 OUT="${HAIR_OUTPUT_DIR:-$ROOT/Output}"
-# Debian's ParaView renders only through X: xvfb-run gives it a display.
-xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo.py" "$PLUGIN" "$OUT"
-xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_simulation.py" "$PLUGIN" "$OUT"
-xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_hair.py" "$PLUGIN" "$OUT"
+# Debian's ParaView renders only through X: xvfb-run gives it a display. Each in a session of
+# its own (setsid -w waits and passes the exit status on): Debian's pvpython starts MPI as a
+# singleton, and the daemon (orted) left by one script was seen to stop the next one's X
+# server, which shared its process group ("bad X server connection" seconds into a script).
+setsid -w xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo.py" "$PLUGIN" "$OUT"
+setsid -w xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_simulation.py" "$PLUGIN" "$OUT"
+setsid -w xvfb-run -a -s "-screen 0 1280x1024x24" pvpython "$ROOT/Scripts/demo_hair.py" "$PLUGIN" "$OUT"
