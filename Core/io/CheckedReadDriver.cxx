@@ -313,17 +313,16 @@ Status checkGlobalHeapCollection(const unsigned char* bytes, std::size_t size)
     const std::uint64_t room = whole - at;
     // HDF5 advances by the header and the padded data for an object, by the size alone
     // (which counts the header) for the free space.
-    const bool fits = index > 0
-                          ? objectSize <= room - ObjectHeaderBytes &&
-                                ObjectHeaderBytes + ((objectSize + 7) & ~std::uint64_t(7)) <= room
-                          : objectSize >= ObjectHeaderBytes && objectSize <= room;
-    if (!fits)
+    const bool dataFits = index == 0 || objectSize <= room - ObjectHeaderBytes;
+    const std::uint64_t step =
+        index > 0 ? ObjectHeaderBytes + ((objectSize + 7) & ~std::uint64_t(7)) : objectSize;
+    if (!dataFits || step < ObjectHeaderBytes || step > room)
     {
       return Status::Error("a global heap collection's object " + std::to_string(index) +
                            " at byte " + std::to_string(at) + " of it has size " +
                            std::to_string(objectSize) + ", which does not fit the collection");
     }
-    at += index > 0 ? ObjectHeaderBytes + ((objectSize + 7) & ~std::uint64_t(7)) : objectSize;
+    at += step;
   }
   return Status::Ok();
 }

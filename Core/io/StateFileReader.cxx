@@ -115,15 +115,16 @@ Status openFile(const std::string& path, Handle& file)
   // opens normally (no retries).
   // Both through the checked driver (io/CheckedReadDriver.h), which refuses a damaged
   // global heap before HDF5 decodes it.
-  Handle swmr(checkedReadAccess(MetadataReadAttempts)), plain(checkedReadAccess(1));
-  if (!swmr.valid() || !plain.valid())
+  Handle swmr(checkedReadAccess(MetadataReadAttempts));
+  if (!swmr.valid())
   {
     return Status::Error("cannot be opened: HDF5 refused HairDynamics' read-only file driver.");
   }
   file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY | H5F_ACC_SWMR_READ, swmr.get()));
   if (!file.valid())
   {
-    file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, plain.get()));
+    Handle plain(checkedReadAccess(1));
+    file = Handle(plain.valid() ? H5Fopen(path.c_str(), H5F_ACC_RDONLY, plain.get()) : -1);
   }
   if (!file.valid())
   {
