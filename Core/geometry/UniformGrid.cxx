@@ -1,0 +1,193 @@
+#include "geometry/UniformGrid.h"
+
+#include "common/Parallel.h"
+
+#include <algorithm>
+#include <queue>
+
+namespace hair
+{
+
+void UniformGrid::build(const std::vector<Box3>& boxes, const std::vector<int>& groups,
+                        const Eigen::Array3d& cell)
+{
+  Boxes = true;
+  Count = boxes.size();
+  BoxList = boxes;
+  Points.clear();
+  Cell = cell.max(1e-300);
+  Inverse = Cell.inverse();
+  Origin = boxes.empty() ? Eigen::Vector3d::Zero() : boxes[0].lo;
+  for (const Box3& b : boxes)
+    Origin = Origin.cwiseMin(b.lo);
+  Entries.clear();
+  for (std::size_t k = 0; k < boxes.size(); ++k)
+  {
+    const Eigen::Array3i lo = cellOf(boxes[k].lo), hi = cellOf(boxes[k].hi);
+    const int group = groups.empty() ? -1 : groups[k];
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z)
+          Entries.push_back({static_cast<int>(k), group, x, y, z});
+  }
+  sortEntries();
+}
+
+void UniformGrid::build(const std::vector<Eigen::Vector3d>& points, double cell)
+{
+  Boxes = false;
+  Count = points.size();
+  Points = points;
+  BoxList.clear();
+  Cell.setConstant(std::max(cell, 1e-300));
+  Inverse = Cell.inverse();
+  Origin = points.empty() ? Eigen::Vector3d::Zero() : points[0];
+  for (const Eigen::Vector3d& p : points)
+    Origin = Origin.cwiseMin(p);
+  Entries.clear();
+  Entries.reserve(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    const Eigen::Array3i c = cellOf(points[k]);
+    Entries.push_back({static_cast<int>(k), -1, c.x(), c.y(), c.z()});
+  }
+  sortEntries();
+}
+
+void UniformGrid::sortEntries()
+{
+  // Counting sort by hashed cell: O(entries). Cells with the same hash share a bucket and
+  // are told apart by their coordinates.
+  std::uint32_t buckets = 1;
+  while (buckets < 2 * Entries.size())
+    buckets <<= 1;
+  Mask = buckets - 1;
+  Start.assign(buckets + 1, 0);
+  std::vector<std::uint32_t> key(Entries.size());
+  Lowest.setConstant(std::numeric_limits<int>::max());
+  Highest.setConstant(std::numeric_limits<int>::min());
+  for (std::size_t e = 0; e < Entries.size(); ++e)
+  {
+    const Entry& en = Entries[e];
+    key[e] = bucketOf(en.ix, en.iy, en.iz);
+    ++Start[key[e] + 1];
+    Lowest = Lowest.min(Eigen::Array3i(en.ix, en.iy, en.iz));
+    Highest = Highest.max(Eigen::Array3i(en.ix, en.iy, en.iz));
+  }
+  for (std::uint32_t b = 0; b < buckets; ++b)
+    Start[b + 1] += Start[b];
+  Sorted.resize(Entries.size());
+  std::vector<std::uint32_t> fill(Start.begin(), Start.end() - 1);
+  for (std::size_t e = 0; e < Entries.size(); ++e)
+    Sorted[fill[key[e]]++] = Entries[e];
+}
+
+void UniformGrid::overlappingPairs(std::vector<std::pair<int, int>>& out, int threads) const
+{
+  out.clear();
+  if (!Boxes || Sorted.empty())
+    return;
+  // Pairs in each cell; a pair whose boxes share several cells is kept only in the cell
+  // holding the low corner of the boxes' intersection. Blocks of buckets on the threads,
+  // merged in block order and sorted: the same pairs on any number of threads.
+  const std::int64_t buckets = static_cast<std::int64_t>(Start.size()) - 1;
+  const std::int64_t grain = std::max<std::int64_t>(256, buckets / 64);
+  std::vector<std::vector<std::pair<int, int>>> found(
+      static_cast<std::size_t>(blockCount(buckets, grain)));
+  parallelBlocks(buckets, grain, threads,
+                 [&](std::int64_t first, std::int64_t last)
+                 {
+                   std::vector<std::pair<int, int>>& mine = found[first / grain];
+                   for (std::int64_t b = first; b < last; ++b)
+                     for (std::uint32_t i = Start[b]; i + 1 < Start[b + 1]; ++i)
+                     {
+                       const Entry& ei = Sorted[i];
+                       const Box3& bi = BoxList[ei.item];
+                       for (std::uint32_t j = i + 1; j < Start[b + 1]; ++j)
+                       {
+                         const Entry& ej = Sorted[j];
+                         if ((ei.group >= 0 && ei.group == ej.group) || ei.ix != ej.ix ||
+                             ei.iy != ej.iy || ei.iz != ej.iz)
+                           continue; // one group, or another cell with the same hash
+                         const Box3& bj = BoxList[ej.item];
+                         if (!bi.overlaps(bj))
+                           continue;
+                         const Eigen::Array3i corner = cellOf(bi.lo.cwiseMax(bj.lo));
+                         if (corner.x() != ei.ix || corner.y() != ei.iy || corner.z() != ei.iz)
+                           continue;
+                         mine.emplace_back(std::min(ei.item, ej.item), std::max(ei.item, ej.item));
+                       }
+                     }
+                 });
+  std::size_t total = 0;
+  for (const auto& f : found)
+    total += f.size();
+  out.reserve(total);
+  for (const auto& f : found)
+    out.insert(out.end(), f.begin(), f.end());
+  std::sort(out.begin(), out.end());
+}
+
+void UniformGrid::nearest(const Eigen::Vector3d& p, int k, std::vector<int>& out,
+                          double maxDistance) const
+{
+  out.clear();
+  if (Boxes || Count == 0 || k <= 0)
+    return;
+  // Rings of cells (Chebyshev distance `ring` from p's cell): every point within
+  // ring × the smallest cell side of p lies in rings 0 … ring (p may sit anywhere in its
+  // cell), so once the k-th nearest found is within that, no later ring can do better.
+  const Eigen::Array3i c = cellOf(p);
+  const double side = Cell.minCoeff();
+  // The largest ring that can hold a point: the item cells' extent around c.
+  const int farthest = std::max({(c - Lowest).abs().maxCoeff(), (Highest - c).abs().maxCoeff(), 0});
+  using Found = std::pair<double, int>; // squared distance, index: a max-heap of the best k
+  std::priority_queue<Found> best;
+  const double limit2 = maxDistance * maxDistance;
+  auto consider = [&](const Entry& e)
+  {
+    const double d2 = (Points[e.item] - p).squaredNorm();
+    if (d2 > limit2)
+      return;
+    const Found f(d2, e.item);
+    if (static_cast<int>(best.size()) < k)
+      best.push(f);
+    else if (f < best.top())
+    {
+      best.pop();
+      best.push(f);
+    }
+  };
+  for (int ring = 0; ring <= farthest; ++ring)
+  {
+    for (int x = c.x() - ring; x <= c.x() + ring; ++x)
+      for (int y = c.y() - ring; y <= c.y() + ring; ++y)
+      {
+        const bool edge = std::abs(x - c.x()) == ring || std::abs(y - c.y()) == ring;
+        if (edge)
+        {
+          for (int z = c.z() - ring; z <= c.z() + ring; ++z)
+            forEachInCell(x, y, z, consider);
+        }
+        else
+        {
+          forEachInCell(x, y, c.z() - ring, consider);
+          if (ring > 0)
+            forEachInCell(x, y, c.z() + ring, consider);
+        }
+      }
+    const double reach = ring * side; // every point closer than this has been seen
+    if (static_cast<int>(best.size()) == k && best.top().first <= reach * reach)
+      break;
+    if (reach > maxDistance)
+      break;
+  }
+  out.resize(best.size());
+  for (int i = static_cast<int>(best.size()) - 1; i >= 0; --i)
+  {
+    out[i] = best.top().second;
+    best.pop();
+  }
+}
+
+} // namespace hair
