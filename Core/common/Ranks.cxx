@@ -35,6 +35,27 @@ Ranks::Ranks(MPI_Comm comm)
   Shared = std::move(c);
 }
 
+Ranks Ranks::subset(bool member) const
+{
+  if (!Shared)
+  {
+    return Ranks();
+  }
+  MPI_Comm sub = MPI_COMM_NULL;
+  MPI_Comm_split(Shared->Handle, member ? 0 : MPI_UNDEFINED, Rank, &sub);
+  if (sub == MPI_COMM_NULL)
+  {
+    return Ranks();
+  }
+  Ranks r;
+  auto c = std::make_shared<Comm>();
+  c->Handle = sub; // freed with the last copy, as a duplicate is
+  MPI_Comm_rank(sub, &r.Rank);
+  MPI_Comm_size(sub, &r.Size);
+  r.Shared = std::move(c);
+  return r;
+}
+
 MPI_Comm Ranks::comm() const
 {
   return Shared ? Shared->Handle : MPI_COMM_NULL;

@@ -30,6 +30,10 @@ public:
   int size() const { return Size; }
   /// More than one process.
   bool parallel() const { return Size > 1; }
+  /// Collective: the ranks that say `member`, in the same order (on a rank that does not:
+  /// this process alone). What a model is given, so that its collective calls are made by
+  /// the ranks that hold strands.
+  Ranks subset(bool member) const;
   /// The communicator (MPI_COMM_NULL for this process alone).
   MPI_Comm comm() const;
 

@@ -405,6 +405,9 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   {
     return s;
   }
+  // The model's own collective calls (a grid summed over the ranks) are made by the ranks
+  // that hold strands: the others never call it.
+  run.ranks = ranks.subset(!mine.empty());
   Status built = mine.empty() ? Status::Ok() : r->Model->initialize(mine, scene, run);
   if (Status s = ranks.agree(built); !s)
   {
