@@ -32,6 +32,20 @@ struct ContactResponse
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
   Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d damping = Eigen::Matrix3d::Zero();
+  /// The far field of hair–hair interaction (contact/HairGrid), kept apart from the terms
+  /// above: a drag `drag` [N·s/m²] towards the velocity of the hair around, `medium` [m/s],
+  /// and a push `push` [N/m] with an isotropic stiffness `spring` [N/m²]. Over a step the
+  /// force per unit length is
+  ///   drag (medium − v⁽ⁿ⁺¹⁾) + push − spring (x⁽ⁿ⁺¹⁾ − xⁿ),
+  /// implicit in drag and spring like `damping` and `stiffness`. Both are multiples of the
+  /// identity, so a model whose mass matrix is ∫ ρS Jᵀ J ds can treat them at no cost (the
+  /// Super-Helix scales its mass weights: docs/hair-hair-interaction.md), and their work is
+  /// reported apart from the body's.
+  double drag = 0;
+  double spring = 0;
+  Eigen::Vector3d medium = Eigen::Vector3d::Zero();
+  Eigen::Vector3d push = Eigen::Vector3d::Zero();
+  bool hasField() const { return drag != 0 || spring != 0 || !push.isZero(0); }
 };
 
 /// How the end-of-step velocities of some samples of a strand respond to point forces at
@@ -49,6 +63,9 @@ struct StrandCompliance
   std::vector<int> columns; ///< per coupling sample: its J_k is 0 past this many coordinates
   Eigen::MatrixXd Jt;       ///< the coordinates × 3 columns per coupling sample: J_kᵀ
   Eigen::MatrixXd Y;        ///< the coordinates × 3 columns per coupling sample: Y_k
+  /// J_k Y_l for every pair of coupling samples (3 × 3 blocks), when it comes without Jt and
+  /// Y (another process's strand); empty: a solver forms it from Jt and Y.
+  Eigen::MatrixXd G;
 };
 
 /// Contact hook: given the samples at the start of a (sub-)step, write the response of each
