@@ -9,6 +9,7 @@
 #include "superhelix/StepKernels.h"
 #include "superhelix/SuperHelixInternal.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,7 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
       nd.hasF = !c.force.isZero(0);
       nd.hasK = !c.stiffness.isZero(0);
       nd.hasD = !c.damping.isZero(0);
+      nd.hasField = c.hasField();
       if (!c.force.allFinite())
         return Status::Error(
             "the contact force at s = " + std::to_string(Starts[nd.element] + nd.u) +
@@ -68,6 +70,12 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
         return Status::Error(
             "the contact stiffness or damping at s = " + std::to_string(Starts[nd.element] + nd.u) +
             " m is not finite; check the contact hook.");
+      if (nd.hasField && !(std::isfinite(c.drag) && c.drag >= 0 && std::isfinite(c.spring) &&
+                           c.spring >= 0 && c.medium.allFinite() && c.push.allFinite()))
+        return Status::Error(
+            "the far-field response (drag, spring, medium velocity, push) at s = " +
+            std::to_string(Starts[nd.element] + nd.u) +
+            " m is not finite or negative; check the contact hook.");
     }
     ContactsSet = true;
   }
@@ -96,6 +104,16 @@ void SuperHelix::assemble()
   const ContactResponse* const contacts = ContactsSet ? ws.ContactBuffer.data() : nullptr;
   const Eigen::Vector3d gravity = RhoS * Spec.gravity;
   const double nu = Spec.hair.airFriction;
+  // The contact responses' far field (drag c towards `medium`, push with spring k), implicit
+  // at no cost: backward Euler adds Σ w (h c + h² k) Jᵀ J to the step's matrix, which is M's
+  // translational sum with ρS raised by (h c + h² k) / airScale at the sample (airScale: the
+  // factor solve() gives M for the air's drag), and the right-hand side terms that M q̇ⁿ
+  // then counts too are taken out of the sample's load in f:
+  //   f += c (medium − v) + push + (c − s/h) (v − v0) − h k v0,  s = (h c + h² k)/airScale,
+  // which makes the step's force c (medium − v⁽ⁿ⁺¹⁾) + push − k h v⁽ⁿ⁺¹⁾ (ContactResponse).
+  // Loads (the tension's) keep the physical force c (medium − v) + push.
+  const double fold = FoldStep;
+  const double airScale = 1 + fold * nu / RhoS;
   // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
   // acts beyond every element: J(L)ᵀP = A_eᵀ (r(L) × P) + W_eᵀ P for every e.
   Eigen::Vector3d tailF = Spec.tipForce, tailT = k.tip.r0.cross(Spec.tipForce);
@@ -125,14 +143,27 @@ void SuperHelix::assemble()
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       Node& nd = k.nodes[j];
-      const double wm = nd.w * RhoS;
+      double wm = nd.w * RhoS;
       Eigen::Vector3d f = gravity - nu * (nd.v0 - (winds ? winds[j] : Spec.wind)) - RhoS * nd.a0;
       if (contacts && nd.hasF)
         f += contacts[j].force;
+      Eigen::Vector3d fg = f; // the load in the generalized force
+      if (contacts && nd.hasField)
+      {
+        const ContactResponse& c = contacts[j];
+        f += c.drag * (c.medium - nd.v) + c.push;
+        fg = f;
+        if (fold > 0)
+        {
+          const double s = (fold * c.drag + fold * fold * c.spring) / airScale;
+          wm += nd.w * s;
+          fg += (c.drag - s / fold) * (nd.v - nd.v0) - (fold * c.spring) * nd.v0;
+        }
+      }
       loads[j] = f;
-      floc.noalias() += nd.w * (nd.J.transpose() * f);
-      eF += nd.w * f;
-      eT += nd.w * nd.r.cross(f);
+      floc.noalias() += nd.w * (nd.J.transpose() * fg);
+      eF += nd.w * fg;
+      eT += nd.w * nd.r.cross(fg);
       // JᵀJ and r rᵀ are symmetric: their upper triangles here, mirrored after the loop.
       for (int b = 0; b < 3; ++b)
         for (int a = 0; a <= b; ++a)

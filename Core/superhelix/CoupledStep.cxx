@@ -135,6 +135,102 @@ Status SuperHelix::compliance(const std::vector<int>& samples, StrandCompliance&
   return Status::Ok();
 }
 
+void SuperHelix::materialPoints(const std::vector<double>& s, bool free,
+                                std::vector<StrandSample>& out) const
+{
+  // v(s) = el.v0 + ω0 × Fg + F0 ∂g/∂k q̇_e at the current q̇; the free step's adds J(s) δ,
+  // δ = q̇_free − q̇ⁿ: Σ_{p<e} ((A_p δ_p) × r + W_p δ_p) + F0 ∂g/∂k δ_e.
+  const bool withFree = free && Pending.active;
+  out.resize(s.size());
+  Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
+  int e = 0;
+  HelixPoint hp;
+  for (std::size_t k = 0; k < s.size(); ++k)
+  {
+    double u;
+    const int at = locate(s[k], u);
+    for (; e < at; ++e)
+      if (withFree)
+      {
+        const Eigen::Vector3d d = Pending.qdot.segment<3>(3 * e) - Qdot.segment<3>(3 * e);
+        pa += Cur.elements[e].A * d;
+        pw += Cur.elements[e].W * d;
+      }
+    const Element& el = Cur.elements[at];
+    const Eigen::Vector3d kd = Qdot.segment<3>(3 * at);
+    helixPoint(Q.segment<3>(3 * at), kd, u, hp);
+    const Eigen::Vector3d Fg = el.F0 * hp.g;
+    StrandSample& o = out[k];
+    o.element = at;
+    o.s = s[k];
+    o.weight = 0;
+    o.position = el.r0 + Fg;
+    o.velocity = el.v0 + el.omega0.cross(Fg) + el.F0 * (hp.dg * kd);
+    if (withFree)
+      o.velocity +=
+          pa.cross(o.position) + pw + el.F0 * (hp.dg * (Pending.qdot.segment<3>(3 * at) - kd));
+  }
+}
+
+Status SuperHelix::loadCompliance(const std::vector<std::array<double, 2>>& s,
+                                  const std::vector<std::array<double, 2>>& weight,
+                                  const std::vector<Eigen::Vector3d>& direction, Eigen::MatrixXd& D,
+                                  Eigen::MatrixXd& Y) const
+{
+  if (!Pending.active)
+    return Status::Error("strand '" + Spec.name +
+                         "': loadCompliance() needs a step begun by beginStep().");
+  const int count = static_cast<int>(s.size());
+  if (static_cast<int>(weight.size()) != count || static_cast<int>(direction.size()) != count)
+    return Status::Error("strand '" + Spec.name + "': loadCompliance() got " +
+                         std::to_string(count) + " loads with " + std::to_string(weight.size()) +
+                         " weights and " + std::to_string(direction.size()) + " directions.");
+  for (int l = 0; l < count; ++l)
+    for (int e = 0; e < 2; ++e)
+      if (!(s[l][e] >= 0 && s[l][e] <= Length) || !std::isfinite(weight[l][e]) ||
+          !direction[l].allFinite())
+        return Status::Error("strand '" + Spec.name + "': load " + std::to_string(l) + " at s = " +
+                             std::to_string(s[l][e]) + " m is not on the strand, or not finite.");
+  // j_l = Σ_e w_e J(s_e)ᵀ d_l: for an element p before the point's element e,
+  // J_p(s)ᵀ d = (W_p − [r]× A_p)ᵀ d = W_pᵀ d + A_pᵀ (r × d); its own element's block
+  // (F0 ∂g/∂k)ᵀ d.
+  const int m = static_cast<int>(Q.size());
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(m, count);
+  HelixPoint hp;
+  for (int l = 0; l < count; ++l)
+    for (int e = 0; e < 2; ++e)
+    {
+      if (weight[l][e] == 0)
+        continue;
+      double u;
+      const int at = locate(s[l][e], u);
+      helixPoint(Q.segment<3>(3 * at), Qdot.segment<3>(3 * at), u, hp);
+      const Element& own = Cur.elements[at];
+      const Eigen::Vector3d r = own.r0 + own.F0 * hp.g;
+      const Eigen::Vector3d d = weight[l][e] * direction[l];
+      const Eigen::Vector3d rd = r.cross(d);
+      for (int p = 0; p < at; ++p)
+      {
+        const Element& el = Cur.elements[p];
+        J.col(l).segment<3>(3 * p) += el.W.transpose() * d + el.A.transpose() * rd;
+      }
+      J.col(l).segment<3>(3 * at) += (own.F0 * hp.dg).transpose() * d;
+    }
+  Y = Pending.h * J;
+  if (m > detail::UnblockedLuMax)
+    Y = Pending.largeLu.solve(Y);
+  else
+  {
+    for (int c = 0; c < m; ++c)
+      if (Pending.pivots[c] != c)
+        Y.row(c).swap(Y.row(Pending.pivots[c]));
+    Pending.lu.triangularView<Eigen::UnitLower>().solveInPlace(Y);
+    Pending.lu.triangularView<Eigen::Upper>().solveInPlace(Y);
+  }
+  D.noalias() = J.transpose() * Y;
+  return Status::Ok();
+}
+
 Status SuperHelix::endStep(const std::vector<int>& samples,
                            const std::vector<Eigen::Vector3d>& forces,
                            const Eigen::VectorXd& response)
@@ -170,7 +266,7 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
   {
     ws.ContactBuffer.assign(Cur.nodes.size(), ContactResponse());
     for (Node& nd : Cur.nodes) // without a hook the flags were not set by this step
-      nd.hasF = nd.hasK = nd.hasD = false;
+      nd.hasF = nd.hasK = nd.hasD = nd.hasField = false;
   }
   for (size_t k = 0; k < forces.size(); ++k)
   {

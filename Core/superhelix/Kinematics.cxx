@@ -159,7 +159,7 @@ void SuperHelix::kinematics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
           pointAt(f, Fg, nd.J, nd.v, nd.a0);
           nd.r = r + Fg;
           nd.v0 = v0r + f[0] * V0w[0] + f[1] * V0w[1] + f[2] * V0w[2];
-          nd.hasF = nd.hasK = nd.hasD = false;
+          nd.hasF = nd.hasK = nd.hasD = nd.hasField = false;
           // The cross-section's angular velocity in its own frame (see omO above).
           const Eigen::Vector3d omLocal = omO[0] + f[0] * omO[1] +
                                           (nd.u * nd.coefficients.phi0) * omO[2] + f[1] * omO[3] +

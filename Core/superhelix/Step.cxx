@@ -183,12 +183,14 @@ Status SuperHelix::prepareStep(double h, double t0, bool midpoint, Eigen::Vector
   // damps it; a strand touching anything takes the semi-implicit step.
   if (midpoint && ContactsSet)
     for (const Node& nd : Cur.nodes)
-      if (nd.hasF || nd.hasK || nd.hasD)
+      if (nd.hasF || nd.hasK || nd.hasD || nd.hasField)
       {
         declined = true;
         return Status::Ok();
       }
+  FoldStep = midpoint ? 0 : h; // the far field's drag and spring into M (assemble())
   assemble();
+  FoldStep = 0;
   assembleVelocityJacobian();
   assembleTensionStiffness(h);
   if (!F.allFinite())
@@ -354,6 +356,16 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
             fc -= h * (contacts[j].stiffness * vt);
           if (nd.hasD)
             fc -= contacts[j].damping * (vt - nd.v);
+          if (nd.hasField)
+          {
+            // drag (medium − ṽ) + push − spring h ṽ, as assemble() folded it into the step.
+            const ContactResponse& c = contacts[j];
+            const Eigen::Vector3d slip = vt - c.medium;
+            const Eigen::Vector3d ff = c.push - c.drag * slip - (h * c.spring) * vt;
+            flow.fieldWork += h * nd.w * ff.dot(vt);
+            flow.fieldDissipated += h * nd.w * c.drag * slip.squaredNorm();
+            fc += ff;
+          }
         }
         flow.contactWork += h * nd.w * fc.dot(vt);
         const Eigen::Vector3d f = RhoS * Spec.gravity - nu * rel + fc;
@@ -439,6 +451,8 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
   Energy.total.contactWork += flow.contactWork;
   Energy.total.loadWork += flow.loadWork;
   Energy.total.residual += flow.residual;
+  Energy.total.fieldWork += flow.fieldWork;
+  Energy.total.fieldDissipated += flow.fieldDissipated;
   return Status::Ok();
 }
 
@@ -527,6 +541,8 @@ Status SuperHelix::advance(double dt, double tolerance)
     sum.contactWork += l.contactWork;
     sum.loadWork += l.loadWork;
     sum.residual += l.residual;
+    sum.fieldWork += l.fieldWork;
+    sum.fieldDissipated += l.fieldDissipated;
     // The next sub-step from this one's ratio; one shortened only to land on the interval's
     // end does not hold back the next (at most twice the longer of the two).
     h = std::max(0.2 * hs, std::min(hs * grow, 2 * std::max(h, hs)));

@@ -7,6 +7,7 @@
 #include "common/Status.h"
 #include "contact/ContactResponse.h"
 #include "contact/HairHairContacts.h"
+#include "contact/NearField.h"
 #include "scene/AirField.h"
 #include "scene/RigidMotion.h"
 #include "strands/HairParameters.h"
@@ -16,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -102,6 +104,11 @@ struct EnergyTerms
   double contactWork = 0;
   double loadWork = 0; ///< work of StrandSpec::tipForce
   double residual = 0;
+  /// Of contactWork, the work of the contact responses' far-field part (ContactResponse's
+  /// drag, push and spring: the hair around, contact/HairGrid), and what its drag dissipated,
+  /// h Σ w drag |v − medium|² (≥ 0; the rest of its work is what the hair around gave).
+  double fieldWork = 0;
+  double fieldDissipated = 0;
 };
 
 struct EnergyReport
@@ -151,6 +158,22 @@ public:
   Status beginStep(double dt);
   const std::vector<StrandSample>& freeSamples() const { return Pending.free; }
   Status compliance(const std::vector<int>& samples, StrandCompliance& out) const;
+  /// Points of the strand at arc lengths `s` [m] (increasing, in [0, L]) of the current state,
+  /// exact on the helices: positions, arc lengths and velocities; with `free`, the
+  /// velocities at the end of the step begun by beginStep without the coupling forces (as
+  /// freeSamples()'), else the current ones. Weights are 0.
+  void materialPoints(const std::vector<double>& s, bool free,
+                      std::vector<StrandSample>& out) const;
+  /// How point loads along given directions move the strand within the step begun by
+  /// beginStep: load l acts at Σ_e weight[l][e] r(s[l][e]) (two material points, arc lengths
+  /// in [0, L]) along the unit direction d_l. Y's column l is h A⁻¹ j_l, j_l = Σ_e
+  /// weight_e J(s_e)ᵀ d_l, the coordinate velocities one newton of load l adds; D = [j_k ·
+  /// Y_l], how load k's point moves along d_k per newton of load l (the loads' Delassus
+  /// matrix). A force λ_l on each load then changes q̇ by Y λ.
+  Status loadCompliance(const std::vector<std::array<double, 2>>& s,
+                        const std::vector<std::array<double, 2>>& weight,
+                        const std::vector<Eigen::Vector3d>& direction, Eigen::MatrixXd& D,
+                        Eigen::MatrixXd& Y) const;
   /// Like freeSamples(), with the coordinate velocities changed by `response` (a coupled
   /// solve's Σ Y_k F_k; empty: freeSamples()).
   void predictedSamples(const Eigen::VectorXd& response, std::vector<StrandSample>& out) const;
@@ -240,8 +263,9 @@ private:
   struct alignas(64) Node
   {
     int element;
-    // The contact's force, −∂f/∂x, −∂f/∂v are non-zero (set by evaluateForces in a step).
-    bool hasF = false, hasK = false, hasD = false;
+    // The contact's force, −∂f/∂x, −∂f/∂v, its far-field part (drag, push, spring) are
+    // non-zero (set by evaluateForces in a step).
+    bool hasF = false, hasK = false, hasD = false, hasField = false;
     double u, w;
     Eigen::Vector3d r, v, v0, a0;
     Eigen::Matrix3d J;
@@ -360,6 +384,10 @@ private:
   // The system solve() forms: the midpoint step's while one is being taken, else the
   // semi-implicit step's.
   bool MidpointStep = false;
+  // The step size h while a step assembles M: the contact responses' drag c and spring k
+  // (multiples of the identity) are folded into M's translational weights, ρS + (h c +
+  // h² k) / (1 + h ν/ρS), and their right-hand side into f (assemble()). 0 outside a step.
+  double FoldStep = 0;
 };
 
 /// Steps every strand by dt on `threads` threads (common/Parallel.h; 1: the calling thread
@@ -375,5 +403,16 @@ Status stepStrands(std::vector<SuperHelix>& strands, double dt, int threads, dou
 /// carry one commit their step with its forces. Returns the first error in strand order.
 Status stepStrandsWithContacts(std::vector<SuperHelix>& strands, HairHairContacts& contacts,
                                double dt, int threads);
+
+/// Steps every strand by dt on `threads` threads with the near field of hair–hair interaction
+/// (contact/NearField.h: the pairs that would cross or end within the contact distance push
+/// apart): every strand's step is solved without the pairs' forces, the acting pairs are
+/// found from where it takes the samples and solved with the compliances of the strands they
+/// load, and every strand commits its step with its forces. `carry`: the roots' rigid motion
+/// over the step, end to start (NearFieldContacts::detect). Returns the first error in
+/// strand order.
+Status stepStrandsWithNearField(std::vector<SuperHelix>& strands, NearFieldContacts& near,
+                                double dt, int threads,
+                                const Eigen::Isometry3d& carry = Eigen::Isometry3d::Identity());
 
 } // namespace hair

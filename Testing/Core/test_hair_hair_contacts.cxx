@@ -6,6 +6,7 @@
 // pass-through count of contact/PassThrough.h, which knows nothing of the contacts.
 #include "ClumpScene.h"
 #include "HeadShake.h"
+#include "StrandPairs.h"
 #include "contact/HairHairContacts.h"
 #include "contact/PassThrough.h"
 #include "superhelix/SuperHelix.h"
@@ -24,39 +25,10 @@ namespace
 {
 constexpr double Dt = 1.0 / 30;
 
-// A right-handed frame whose first column is `tangent`.
-Eigen::Matrix3d frameWithTangent(const Eigen::Vector3d& tangent)
-{
-  Eigen::Matrix3d f;
-  f.col(0) = tangent.normalized();
-  f.col(1) = f.col(0).unitOrthogonal();
-  f.col(2) = f.col(0).cross(f.col(1));
-  return f;
-}
-
-// Smallest distance between the centrelines of two strands (8 points per element).
-double centrelineDistance(const SuperHelix& a, const SuperHelix& b)
-{
-  std::vector<Eigen::Vector3d> pa, pb;
-  a.polyline(8, pa);
-  b.polyline(8, pb);
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i + 1 < pa.size(); ++i)
-    for (size_t j = 0; j + 1 < pb.size(); ++j)
-    {
-      double u, v;
-      best = std::min(best, closestPointsOfSegments(pa[i], pa[i + 1], pb[j], pb[j + 1], u, v));
-    }
-  return std::sqrt(best);
-}
-
 // The strands' drawn points (4 per element), for the pass-through count.
 std::vector<std::vector<Eigen::Vector3d>> drawn(const std::vector<SuperHelix>& strands)
 {
-  std::vector<std::vector<Eigen::Vector3d>> lines(strands.size());
-  for (size_t k = 0; k < strands.size(); ++k)
-    strands[k].polyline(4, lines[k]);
-  return lines;
+  return drawnStrands(strands, 4);
 }
 
 // A straight strand of samples every `spacing` from `start` along `direction`, all moving at
