@@ -89,11 +89,14 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
      << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
      << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
-     << indent << "Hair-hair contacts: " << (this->HairHairContacts ? "on" : "off") << " thickness "
-     << this->HairContactThickness << " stiffness " << this->HairContactStiffness << " damping "
-     << this->HairContactDamping << " friction coefficient " << this->HairFrictionCoefficient
-     << " iterations " << this->HairContactIterations << " per length "
-     << (this->HairContactPerLength ? "on" : "off") << "\n"
+     << indent << "Hair-hair contacts: " << this->HairHairContacts << " (0 off, 1 coupled, 2 grid, "
+     << "3 grid and near field) volume fraction " << this->HairVolumeFraction << " pressure "
+     << this->HairVolume << " volume, grid friction " << this->HairGridFriction << " /s cell "
+     << this->HairGridCellSize << " m thickness " << this->HairContactThickness << " stiffness "
+     << this->HairContactStiffness << " damping " << this->HairContactDamping
+     << " friction coefficient " << this->HairFrictionCoefficient << " iterations "
+     << this->HairContactIterations << " per length " << (this->HairContactPerLength ? "on" : "off")
+     << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n"
      << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n";
 }
@@ -382,7 +385,16 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   sh.contacts.anisotropy = this->FrictionAnisotropy;
   sh.contacts.thickness = this->ContactThickness;
   sh.contacts.slipVelocity = this->SlipVelocity;
-  sh.hairHairEnabled = this->HairHairContacts;
+  sh.hairHairEnabled = this->HairHairContacts != HAIR_HAIR_OFF;
+  if (sh.hairHairEnabled)
+  {
+    // Any other value is refused by the options' validation, with the values it takes.
+    sh.hairHairSolver = static_cast<hair::HairHairSolver>(this->HairHairContacts);
+  }
+  sh.hairGrid.volumeFraction = this->HairVolumeFraction;
+  sh.hairGrid.volume = this->HairVolume;
+  sh.hairGrid.friction = this->HairGridFriction;
+  sh.hairGrid.cellSize = this->HairGridCellSize;
   sh.hairHair.thickness = this->HairContactThickness;
   sh.hairHair.stiffness = this->HairContactStiffness;
   sh.hairHair.damping = this->HairContactDamping;

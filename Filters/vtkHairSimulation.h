@@ -110,12 +110,29 @@ public:
   vtkGetMacro(FrictionAnisotropy, double);
   vtkSetMacro(ContactThickness, double);
   vtkGetMacro(ContactThickness, double);
-  /// Super-Helix: hair–hair contacts between the guides (hair::HairHairParameters), solved
-  /// together with every step; each guide is a clump of radius HairContactThickness (0:
-  /// automatic, hair::HairHairParameters::automaticThickness).
-  vtkSetMacro(HairHairContacts, bool);
-  vtkGetMacro(HairHairContacts, bool);
-  vtkBooleanMacro(HairHairContacts, bool);
+  /// Super-Helix: how the guides interact with each other (hair::HairHairSolver; its values,
+  /// 0: off). GRID (the default): the far field of hair::HairGrid, volume and friction;
+  /// GRID_AND_NEAR_FIELD: with hair::NearFieldContacts against crossing (one rank);
+  /// COUPLED: every close pair solved with the step (hair::HairHairContacts; one rank).
+  enum HairHairType
+  {
+    HAIR_HAIR_OFF = 0,
+    HAIR_HAIR_COUPLED = 1,
+    HAIR_HAIR_GRID = 2,
+    HAIR_HAIR_GRID_AND_NEAR_FIELD = 3
+  };
+  vtkSetMacro(HairHairContacts, int);
+  vtkGetMacro(HairHairContacts, int);
+  /// The grid (hair::HairGridParameters): the rest volume fraction φ0, the share of the
+  /// packing above it undone in a step, the friction rate β [1/s], the cell [m] (0: auto).
+  vtkSetMacro(HairVolumeFraction, double);
+  vtkGetMacro(HairVolumeFraction, double);
+  vtkSetMacro(HairVolume, double);
+  vtkGetMacro(HairVolume, double);
+  vtkSetMacro(HairGridFriction, double);
+  vtkGetMacro(HairGridFriction, double);
+  vtkSetMacro(HairGridCellSize, double);
+  vtkGetMacro(HairGridCellSize, double);
   vtkSetMacro(HairContactThickness, double);
   vtkGetMacro(HairContactThickness, double);
   vtkSetMacro(HairContactStiffness, double);
@@ -183,7 +200,11 @@ protected:
   double FrictionCoefficient = 0.3; ///< μ
   double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
   double ContactThickness = 1e-3;   ///< m
-  bool HairHairContacts = false;
+  int HairHairContacts = HAIR_HAIR_GRID;
+  double HairVolumeFraction = 0.05;     ///< φ0 (hair::HairGridParameters)
+  double HairVolume = 1;                ///< share of the packing above φ0 undone per step
+  double HairGridFriction = 10;         ///< 1/s
+  double HairGridCellSize = 0;          ///< m; 0: automatic
   double HairContactThickness = 0;      ///< m, radius of the clump a guide stands for; 0: auto
   double HairContactStiffness = 1;      ///< N/m per contact
   double HairContactDamping = 2e-4;     ///< N·s/m

@@ -60,6 +60,11 @@ def budget(e):
     if "friction_dissipated" in e:
         stack.append(("dissipated by internal friction", e["friction_dissipated"]))
         stack.append(("dissipated by air drag", e["air_dissipated"]))
+        # hair–hair interaction (docs/hair-hair-interaction.md): the grid's drag, the pairs'
+        for key, label in (("hair_grid_dissipated", "dissipated by the hair grid's friction"),
+                           ("hair_hair_dissipated", "dissipated by hair–hair pairs")):
+            if key in e and np.any(e[key] != 0):
+                stack.append((label, e[key]))
     else:  # the projective model: its air drag is in wind_work
         # (state files written before issue 23 have its angular damping as "dissipated")
         stack.append(("dissipated by angular damping", e.get("damping_dissipated", e["dissipated"])))
@@ -70,6 +75,8 @@ def budget(e):
     for key, label in (("root_work", "root"), ("body_work", "root (body motion)"),
                        ("wind_work", "air drag (net, wind included)" if projective else "wind"),
                        ("contact_work", "contact"),
+                       ("hair_grid_work", "hair grid"),
+                       ("hair_hair_work", "hair–hair pairs"),
                        ("load_work", "tip load")):
         if key in e and np.any(e[key] != 0):
             works.append((f"{label} work", e[key]))

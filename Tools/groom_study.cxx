@@ -289,6 +289,9 @@ int main(int argc, char** argv)
       o.model = modelName == "projective" ? ModelType::Projective : ModelType::SuperHelix;
       o.threads = threads;
       o.superHelix.pointsPerElement = 16; // Hair Simulation's default
+      // Each strand balanced on its own, as the sag-free rest shape is (no hair–hair term in
+      // the balance): the grid's volume would push a groom packed above its rest fraction.
+      o.superHelix.hairHairEnabled = false;
       GrowthOptions grow;
       grow.elements = elements;
       grow.hair = HairParameters::preset(presets.at(presetName));

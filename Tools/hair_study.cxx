@@ -42,6 +42,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -1338,6 +1339,28 @@ int hairhair(const Arguments& args)
     s = args.number("margin", p.margin, 0, 4, p.margin);
   if (s)
     s = args.integer("iterations", p.iterations, 1, 1000, p.iterations);
+  HairGridParameters grid;
+  NearFieldParameters near;
+  const std::map<std::string, HairHairSolver> solvers = {{"grid", HairHairSolver::Grid},
+                                                         {"near", HairHairSolver::GridAndNearField},
+                                                         {"coupled", HairHairSolver::Coupled}};
+  const std::string solverName = args.text("solver", "grid");
+  if (s && !solvers.count(solverName))
+    s = Status::Error("solver=" + solverName + " is not one of grid, near, coupled.");
+  if (s)
+    s = args.number("fraction", grid.volumeFraction, 1e-4, 0.9, grid.volumeFraction);
+  if (s)
+    s = args.number("volume", grid.volume, 0, 1, grid.volume);
+  if (s)
+    s = args.number("grid_friction", grid.friction, 0, 1e4, grid.friction);
+  if (s)
+    s = args.number("cell", grid.cellSize, 0, 1, grid.cellSize);
+  if (s)
+    s = args.integer("sweeps", near.sweeps, 1, 1000, near.sweeps);
+  if (s)
+    s = args.number("near_margin", near.margin, 0, 4, near.margin);
+  if (s)
+    s = args.number("piece", near.pieceLength, 1e-4, 0.1, near.pieceLength);
   if (s)
     s = openOutput(args, out);
   if (!s)
@@ -1389,11 +1412,32 @@ int hairhair(const Arguments& args)
       std::cerr << "hair_study hairhair: " << s.message() << "\n";
       return 1;
     }
+    {
+      const std::map<std::string, HairType> types = {{"smooth", HairType::Smooth},
+                                                     {"wavy", HairType::Wavy},
+                                                     {"curly", HairType::Curly},
+                                                     {"fuzzy", HairType::Fuzzy}};
+      const auto type = types.find(args.text("hair", "wavy"));
+      if (type == types.end())
+      {
+        std::cerr << "hair_study hairhair: hair=" << args.text("hair", "")
+                  << " is not one of smooth, wavy, curly, fuzzy.\n";
+        return 2;
+      }
+      for (GuideStrand& g : guides)
+        g.hair = HairParameters::preset(type->second);
+    }
     SimulationOptions o;
     o.threads = threads;
     o.superHelix.contacts.enabled = bodyContacts == 1;
     o.superHelix.hairHairEnabled = withContacts == 1;
     o.superHelix.hairHair = p;
+    o.superHelix.hairHairSolver = solvers.at(solverName);
+    o.superHelix.hairGrid = grid;
+    o.superHelix.nearField = near;
+    // Pass-throughs are counted on the strands as drawn at 8 points per element: a curled
+    // element is half a turn, and coarser chords miss crossings of the curve.
+    o.superHelix.pointsPerElement = 8;
     Simulation sim;
     if (s = sim.initialize(guides, demoScene(body), o); !s)
     {
@@ -1419,14 +1463,44 @@ int hairhair(const Arguments& args)
       }
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const long passes =
-          static_cast<long>(findPassThroughs(polylines(sim.header(), sim.frame(f - 1)),
-                                             polylines(sim.header(), sim.frame(f)), R)
-                                .size());
+      HairHairStats hhStats;
+      if (o.superHelix.hairHairSolver == HairHairSolver::Coupled)
+        hhStats = model->hairHair().stats();
+      else
+      {
+        // The near field's, in the columns of the coupled solve's: pairs tracked, acting,
+        // sweeps, pairs found crossed (rounds), the largest gap missing after the sweeps.
+        const NearFieldStats& n = model->nearField().stats();
+        hhStats.contacts = n.tracked;
+        hhStats.active = n.active;
+        hhStats.sweeps = n.sweeps;
+        hhStats.rounds = static_cast<int>(n.flipped);
+        hhStats.maxPenetration = std::max(0.0, n.deficit);
+      }
+      const auto found = findPassThroughs(polylines(sim.header(), sim.frame(f - 1)),
+                                          polylines(sim.header(), sim.frame(f)), R);
+      const long passes = static_cast<long>(found.size());
       row(sim.frame(f).time, passes, sim.contacts()[f], sim.maxDepth()[f],
-          withContacts ? &model->hairHair().stats() : nullptr, seconds);
+          withContacts ? &hhStats : nullptr, seconds);
     }
     const std::map<std::string, double> e = sim.model().energy().values();
+    // Where the hair ends and how packed it is: the guides' mean tip height at the end, and
+    // the volume fraction at their samples as the grid last saw it (with the grid on).
+    double tip = 0;
+    const auto lines = polylines(sim.header(), sim.frame(frames));
+    for (const auto& l : lines)
+      tip += l.back().y() / static_cast<double>(lines.size());
+    std::vector<double> fractions;
+    if (withContacts && o.superHelix.hairHairSolver != HairHairSolver::Coupled)
+      for (const SuperHelix& h : model->strands())
+        for (const StrandSample& q : h.samples())
+          fractions.push_back(model->hairGrid().fraction(q.position));
+    std::sort(fractions.begin(), fractions.end());
+    auto pct = [&](double p)
+    { return fractions.empty() ? 0.0 : fractions[std::size_t(p * (fractions.size() - 1))]; };
+    std::printf("mean tip height %.4f m; volume fraction at the samples: median %.3g, 95th "
+                "pct %.3g, largest %.3g\n",
+                tip, pct(0.5), pct(0.95), pct(1.0));
     std::printf("demo, %d guides, hair-hair %s (thickness %.3g mm): %ld pass-throughs over %d "
                 "frames, %ld after 1 s; body: mean %.1f nodes inside, deepest %.2f mm; deepest "
                 "pair %.2f mm of %.2f mm; %.1f s\n",
@@ -1546,8 +1620,9 @@ int main(int argc, char** argv)
           "contacts", "perlength", "reflength", "amplitude", "frequency"},
          clump}},
        {"hairhair",
-        {{"out", "scene", "contacts", "body", "guides", "threads", "duration", "thickness",
-          "stiffness", "friction", "margin", "iterations"},
+        {{"out",       "scene",         "contacts", "body",   "guides",      "threads", "duration",
+          "thickness", "stiffness",     "friction", "margin", "iterations",  "solver",  "fraction",
+          "volume",    "grid_friction", "cell",     "sweeps", "near_margin", "hair",    "piece"},
          hairhair}}};
   const auto it = studies.find(study);
   if (it == studies.end())

@@ -7,10 +7,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <sstream>
 
 namespace hair
 {
+
+const char* toString(HairHairSolver solver)
+{
+  switch (solver)
+  {
+  case HairHairSolver::Grid:
+    return "grid";
+  case HairHairSolver::GridAndNearField:
+    return "grid and near field";
+  case HairHairSolver::Coupled:
+    return "coupled";
+  }
+  return "unknown";
+}
 
 Status SuperHelixOptions::validate() const
 {
@@ -51,9 +67,32 @@ Status SuperHelixOptions::validate() const
   }
   if (hairHairEnabled)
   {
+    const int solver = static_cast<int>(hairHairSolver);
+    if (solver < 1 || solver > 3)
+    {
+      return Status::Error("the hair–hair solver " + std::to_string(solver) +
+                           " is not one: give 1 (coupled pairs), 2 (grid) or 3 (grid and near "
+                           "field).");
+    }
     if (Status s = hairHair.validate(); !s)
     {
       return Status::Error("hair–hair contacts: " + s.message());
+    }
+    if (hairHairSolver != HairHairSolver::Coupled)
+    {
+      if (Status s = hairGrid.validate(); !s)
+      {
+        return Status::Error("hair–hair interaction: " + s.message());
+      }
+    }
+    if (hairHairSolver == HairHairSolver::GridAndNearField)
+    {
+      NearFieldParameters nf = nearField;
+      nf.thickness = 1e-3; // resolved from hairHair.thickness at initialize()
+      if (Status s = nf.validate(); !s)
+      {
+        return Status::Error("hair–hair interaction: " + s.message());
+      }
     }
   }
   return Status::Ok();
@@ -77,34 +116,70 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
-  if (Options.hairHairEnabled && run.ranks.parallel())
+  if (Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Grid &&
+      run.ranks.parallel())
   {
-    // Each rank would find contacts among its own strands only: a run that silently differs
-    // from the same run on one rank. The ghost strands of the neighbouring ranks
-    // (simulation/GhostStrands.h) are there, but the contacts do not use them yet
-    // (docs/mpi.md, "Hair–hair contacts across ranks").
-    return Status::Error(
-        "hair–hair contacts: not available under MPI yet (" + std::to_string(run.ranks.size()) +
-        " ranks): each rank would only see contacts among its own strands. Run on one rank "
-        "(without mpirun, or mpirun -np 1), or turn hair–hair contacts off.");
+    // The pairs would be found among each rank's own strands only: a run that silently
+    // differs from the same run on one rank. The grid is summed over the ranks; the pairs
+    // do not use the ghost strands yet (docs/mpi.md, "Hair–hair interaction across ranks").
+    return Status::Error(std::string("hair–hair interaction: the ") +
+                         toString(Options.hairHairSolver) +
+                         " solver is not available under "
+                         "MPI yet (" +
+                         std::to_string(run.ranks.size()) +
+                         " ranks): each rank would only see pairs among its own strands. Choose "
+                         "the grid (Hair Hair Contacts = Grid), or run on one rank.");
   }
   if (Options.hairHairEnabled)
   {
     HairHairParameters hh = Options.hairHair;
     hh.threads = std::max(1, run.threads);
-    if (hh.thickness == 0 && !guides.empty())
+    // The run's guides (every rank's share) and their mean fibre radius: a guide stands for
+    // HeadFibres / guides fibres.
+    double count = static_cast<double>(guides.size()), radiusSum = 0;
+    for (const GuideStrand& g : guides)
+      radiusSum += g.hair.radius;
+    count = run.ranks.sum(count);
+    radiusSum = run.ranks.sum(radiusSum);
+    if (hh.thickness == 0 && count > 0)
     {
       // Automatic: the clump of the head's fibres each guide stands for (their mean radius).
-      double radius = 0;
-      for (const GuideStrand& g : guides)
-        radius += g.hair.radius / static_cast<double>(guides.size());
       hh.thickness =
-          HairHairParameters::automaticThickness(radius, static_cast<int>(guides.size()));
+          HairHairParameters::automaticThickness(radiusSum / count, static_cast<int>(count));
     }
     HairHairThickness = hh.thickness; // as used (the state file records it)
     if (Status s = HairHair.setParameters(hh); !s)
     {
       return Status::Error("hair–hair contacts: " + s.message());
+    }
+    if (Options.hairHairSolver == HairHairSolver::GridAndNearField)
+    {
+      // The near field keeps guides from crossing, not apart by their clumps' width (the
+      // grid's volume does that): its automatic distance is a quarter of the clump's.
+      NearFieldParameters nf = Options.nearField;
+      nf.thickness = Options.hairHair.thickness > 0 ? hh.thickness : 0.25 * hh.thickness;
+      nf.threads = std::max(1, run.threads);
+      if (Status s = Near.setParameters(nf); !s)
+      {
+        return Status::Error("hair–hair interaction: " + s.message());
+      }
+      Near.reset();
+    }
+    if (Options.hairHairSolver != HairHairSolver::Coupled)
+    {
+      if (Status s = Grid.setParameters(Options.hairGrid); !s)
+      {
+        return Status::Error("hair–hair interaction: " + s.message());
+      }
+      // A guide stands for a head's fibres shared among the guides (HeadFibres / guides,
+      // as the automatic thickness): their cross-section is its volume per unit length.
+      ClumpArea.resize(guides.size());
+      const double fibres = HairHairParameters::HeadFibres / count;
+      for (std::size_t k = 0; k < guides.size(); ++k)
+      {
+        const double r = guides[k].hair.radius;
+        ClumpArea[k] = fibres * M_PI * r * r;
+      }
     }
   }
   // The wind: the fast uniform path when the air is steady and uniform, the field otherwise.
@@ -280,10 +355,101 @@ void SuperHelixModel::respond(std::size_t strand, int id, double t,
     Body.respond(samples, Helices[strand].spec().hair.linearDensity(), parts.data(),
                  static_cast<int>(parts.size()), response);
   }
+  if (usesGrid())
+  {
+    const double rhoS = Helices[strand].spec().hair.linearDensity();
+    for (std::size_t j = 0; j < samples.size(); ++j)
+    {
+      Grid.respond(samples[j].position, rhoS, ClumpArea[strand], response[j]);
+    }
+  }
   if (Options.additionalContacts)
   {
     Options.additionalContacts(id, t, samples, response);
   }
+}
+
+void SuperHelixModel::buildGrid(double h)
+{
+  // Each strand's polyline from the root through its samples (on the run's threads), and
+  // the hair's bounds.
+  GridPoints.resize(Helices.size());
+  GridVelocities.resize(Helices.size());
+  parallelBlocks(static_cast<std::int64_t>(Helices.size()), 16, std::max(1, Run.threads),
+                 [&](std::int64_t b0, std::int64_t b1)
+                 {
+                   for (std::int64_t k = b0; k < b1; ++k)
+                   {
+                     const SuperHelix& helix = Helices[k];
+                     const std::vector<StrandSample>& s = helix.samples();
+                     const RootState root = helix.rootState(helix.time());
+                     std::vector<Eigen::Vector3d>& x = GridPoints[k];
+                     std::vector<Eigen::Vector3d>& v = GridVelocities[k];
+                     x.resize(s.size() + 1);
+                     v.resize(s.size() + 1);
+                     x[0] = root.position;
+                     v[0] = root.velocity;
+                     for (std::size_t j = 0; j < s.size(); ++j)
+                     {
+                       x[j + 1] = s[j].position;
+                       v[j + 1] = s[j].velocity;
+                     }
+                   }
+                 });
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  std::vector<HairGrid::Strand> strands(Helices.size());
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    for (const Eigen::Vector3d& x : GridPoints[k])
+    {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    strands[k] = {GridPoints[k].data(), GridVelocities[k].data(),
+                  static_cast<int>(GridPoints[k].size()), ClumpArea[k], Helices[k].length()};
+  }
+  // The automatic cell (HairGrid::automaticCell): from the fibres a guide stands for. The
+  // same grid on every rank: the bounds and the cell of the whole run.
+  double clump = 0;
+  for (double a : ClumpArea)
+    clump = std::max(clump, a);
+  Run.ranks.min(lo.data(), 3);
+  Run.ranks.max(hi.data(), 3);
+  clump = Run.ranks.max(clump);
+  Grid.begin(lo, hi, Grid.automaticCell(clump), h);
+  Grid.add(strands, std::max(1, Run.threads));
+  Grid.finish(Run.ranks, std::max(1, Run.threads));
+}
+
+Status SuperHelixModel::coupledStep(double t0, double h)
+{
+  if (Options.hairHairSolver == HairHairSolver::Coupled)
+  {
+    if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
+    {
+      return s;
+    }
+    HairHairWork += HairHair.stats().work;
+    HairHairDissipated += HairHair.stats().dissipated;
+    return Status::Ok();
+  }
+  buildGrid(h);
+  if (Options.hairHairSolver == HairHairSolver::Grid)
+  {
+    // The grid is the medium of the step: each strand steps on its own through it.
+    return stepStrands(Helices, h, Run.threads, Options.tolerance * h);
+  }
+  // The roots' rigid motion over the step, end to start: pieces moving with the head are
+  // boxed by their motion relative to it (NearFieldContacts::detect).
+  const Eigen::Isometry3d carry =
+      World.rootMotion.pose(t0) * World.rootMotion.pose(t0 + h).inverse();
+  if (Status s = stepStrandsWithNearField(Helices, Near, h, Run.threads, carry); !s)
+  {
+    return s;
+  }
+  HairHairWork += Near.stats().work;
+  return Status::Ok();
 }
 
 double SuperHelixModel::time() const
@@ -300,9 +466,14 @@ Status SuperHelixModel::advanceTo(double target)
   FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
-    if (!Options.hairHairEnabled)
+    if (!Options.hairHairEnabled || Options.hairHairSolver == HairHairSolver::Grid)
     {
-      // The tolerance is per second of simulated time: each step gets its share.
+      // The grid, when on, is built once per step: each strand takes its own sub-steps
+      // through it. The tolerance is per second of simulated time: each step gets its share.
+      if (Options.hairHairEnabled)
+      {
+        buildGrid(dt);
+      }
       if (Status s = stepStrands(Helices, dt, Run.threads, Options.tolerance * dt); !s)
       {
         return s;
@@ -331,14 +502,12 @@ Status SuperHelixModel::advanceTo(double target)
           h = 0.5 * remaining;
       }
       const double t0 = Time + i * dt + (dt - remaining);
-      if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
+      if (Status s = coupledStep(t0, h); !s)
       {
         return Status::Error("hair–hair contacts, step from t = " + std::to_string(t0) +
                              " s: " + s.message());
       }
       tally();
-      HairHairWork += HairHair.stats().work;
-      HairHairDissipated += HairHair.stats().dissipated;
       remaining -= h;
       if (Options.tolerance > 0)
       {
@@ -409,8 +578,23 @@ void SuperHelixModel::describe(StateHeader& header) const
   at["friction_anisotropy"] = c.anisotropy;
   at["contact_thickness"] = c.thickness;
   at["slip_velocity"] = c.slipVelocity;
-  at["hair_hair_contacts"] = Options.hairHairEnabled ? 1 : 0;
-  if (Options.hairHairEnabled)
+  at["hair_hair_contacts"] = Options.hairHairEnabled ? static_cast<int>(Options.hairHairSolver) : 0;
+  if (usesGrid())
+  {
+    at["hair_hair_head_fibres"] = HairHairParameters::HeadFibres;
+    at["hair_volume_fraction"] = Options.hairGrid.volumeFraction;
+    at["hair_volume"] = Options.hairGrid.volume;
+    at["hair_volume_iterations"] = Options.hairGrid.iterations;
+    at["hair_grid_friction"] = Options.hairGrid.friction;
+    at["hair_grid_cell_size"] = Grid.cellSize(); // as used (the automatic one when 0)
+  }
+  if (Options.hairHairEnabled && Options.hairHairSolver == HairHairSolver::GridAndNearField)
+  {
+    at["hair_hair_thickness"] = Near.parameters().thickness;
+    at["hair_near_field_margin"] = Options.nearField.margin;
+    at["hair_near_field_sweeps"] = Options.nearField.sweeps;
+  }
+  else if (Options.hairHairEnabled && Options.hairHairSolver == HairHairSolver::Coupled)
   {
     const HairHairParameters& h = Options.hairHair;
     at["hair_hair_thickness"] = HairHairThickness;
@@ -510,6 +694,8 @@ EnergyBudget SuperHelixModel::energy() const
     sum.total.contactWork += e.total.contactWork;
     sum.total.loadWork += e.total.loadWork;
     sum.total.residual += e.total.residual;
+    sum.total.fieldWork += e.total.fieldWork;
+    sum.total.fieldDissipated += e.total.fieldDissipated;
   }
   EnergyBudget b;
   b.add(energy::Kinetic, EnergyKind::State, sum.kinetic);
@@ -519,7 +705,22 @@ EnergyBudget SuperHelixModel::energy() const
   b.add("air_dissipated", EnergyKind::Dissipation, sum.total.airDissipated);
   b.add("root_work", EnergyKind::Work, sum.total.rootWork);
   b.add("wind_work", EnergyKind::Work, sum.total.windWork);
-  if (Options.hairHairEnabled)
+  if (usesGrid())
+  {
+    // The strands' contact work holds the far field's (the grid's drag and push) and the
+    // near field's pairs: reported apart. The grid's as the work of its forces plus what
+    // its drag dissipated, and that dissipation (the drag relative to the hair around);
+    // the pairs' as their work. Works − dissipations is unchanged.
+    b.add("contact_work", EnergyKind::Work,
+          sum.total.contactWork - sum.total.fieldWork - HairHairWork);
+    b.add("hair_grid_work", EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
+    b.add("hair_grid_dissipated", EnergyKind::Dissipation, sum.total.fieldDissipated);
+    if (Options.hairHairSolver == HairHairSolver::GridAndNearField)
+    {
+      b.add("hair_hair_work", EnergyKind::Work, HairHairWork);
+    }
+  }
+  else if (Options.hairHairEnabled)
   {
     // The strands' contact work holds the hair–hair forces' work too: reported apart, as
     // the work of the penalty (what the pairs' forces did, less what their damping and

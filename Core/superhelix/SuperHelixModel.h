@@ -3,7 +3,9 @@
 // contacts with the body (penalty with anisotropic friction) and with each other, stepped
 // together on the run's threads.
 #include "contact/BodyContacts.h"
+#include "contact/HairGrid.h"
 #include "contact/HairHairContacts.h"
+#include "contact/NearField.h"
 #include "model/GroomReport.h"
 #include "model/StrandModel.h"
 #include "superhelix/Quadrature.h"
@@ -13,6 +15,25 @@
 
 namespace hair
 {
+
+/// How the guides interact with each other (docs/hair-hair-interaction.md). The values are
+/// Hair Simulation's Hair Hair Contacts (0 there: off) and the state file's
+/// hair_hair_contacts attribute.
+enum class HairHairSolver
+{
+  /// The far field on a grid (contact/HairGrid): every strand's volume and friction with
+  /// the hair around it, at a fraction of the step's cost, on any number of ranks.
+  Grid = 2,
+  /// The grid and the near field against crossing (contact/NearField): pairs of pieces
+  /// tracked over time, pushed back along their side when they touch or flip. One rank.
+  GridAndNearField = 3,
+  /// Every close pair solved together with the step, with Coulomb friction
+  /// (contact/HairHairContacts): for small studies; tens of times the step on a head. One
+  /// rank.
+  Coupled = 1
+};
+/// "grid", "grid and near field", "coupled" (messages).
+const char* toString(HairHairSolver solver);
 
 struct SuperHelixOptions
 {
@@ -39,11 +60,16 @@ struct SuperHelixOptions
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
   /// `lookAhead` is set to the time step by the model.
   BodyContactParameters contacts;
-  /// Hair–hair contacts between the guides (docs/hair-hair-contacts.md), solved together
-  /// with every step (stepStrandsWithContacts): the pairs that may touch within the step
-  /// are found before it, and their forces are unknowns of the step.
-  bool hairHairEnabled = false;
+  /// Hair–hair interaction between the guides (docs/hair-hair-interaction.md), by
+  /// `hairHairSolver`: the grid's volume and friction (the default), with the near field's
+  /// pairs against crossing, or every close pair solved with the step
+  /// (docs/hair-hair-contacts.md). `hairHair.thickness` is the contact distance of the pairs
+  /// (0: automatic); the rest of `hairHair` is the coupled solve's.
+  bool hairHairEnabled = true;
+  HairHairSolver hairHairSolver = HairHairSolver::Grid;
   HairHairParameters hairHair;
+  HairGridParameters hairGrid;   ///< the far field (Grid, GridAndNearField)
+  NearFieldParameters nearField; ///< the near field (GridAndNearField)
   /// How sag-free rest shapes are found (guides whose restShape is SagFree); a run sets it
   /// from SimulationOptions::sagFree.
   SagFreeOptions sagFree;
@@ -87,8 +113,13 @@ public:
   std::map<std::string, double> stepStatistics() const override;
 
   const std::vector<SuperHelix>& strands() const { return Helices; }
-  /// The hair–hair contacts of the last step (when enabled).
+  /// The hair–hair contacts of the last step (when enabled, Coupled).
   const HairHairContacts& hairHair() const { return HairHair; }
+  /// The far and near field of the last step (when enabled: Grid, GridAndNearField).
+  const HairGrid& hairGrid() const { return Grid; }
+  const NearFieldContacts& nearField() const { return Near; }
+  /// The contact thickness as used (the automatic one when the option is 0) [m].
+  double hairThickness() const { return HairHairThickness; }
 
 private:
   /// Strand k from guide g: fitted to its groom, made sag-free when asked.
@@ -106,6 +137,21 @@ private:
   std::vector<GroomReport> Reports; ///< per strand: the fit and the rest shape
   BodyContacts Body;
   HairHairContacts HairHair;
+  HairGrid Grid;
+  NearFieldContacts Near;
+  // Per strand: the cross-section of the fibres it stands for (the grid's volume) [m²].
+  std::vector<double> ClumpArea;
+  /// Per strand: the polyline buildGrid splats (root, then the samples) and its velocities.
+  std::vector<std::vector<Eigen::Vector3d>> GridPoints, GridVelocities;
+  /// The far field's grid for a step of h from every strand's samples now, summed over
+  /// the ranks (collective).
+  void buildGrid(double h);
+  bool usesGrid() const
+  {
+    return Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Coupled;
+  }
+  /// One step of h from t0 of every strand with the hair–hair interaction asked for.
+  Status coupledStep(double t0, double h);
   // Hair–hair contacts since t = 0: the work of their forces on the strands (included in
   // the strands' contact work) and what their damping and friction dissipated [J].
   double HairHairWork = 0, HairHairDissipated = 0;

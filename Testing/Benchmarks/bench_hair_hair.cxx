@@ -1,15 +1,16 @@
-// Hair–hair contacts on the demo's scene, against the same frames without them
-// (docs/hair-hair-contacts.md; figures and commands in docs/benchmarks.md).
+// Hair–hair interaction on the demo's scene, against the same frames without it
+// (docs/hair-hair-interaction.md; figures and commands in docs/benchmarks.md).
 //   BM_Frame/<guides>/<hair-hair>/<threads>: one 1/30 s frame of hair::Simulation on the
 //     demo's scene (DemoScene: wavy guides of 30 cm, N = 10, combed on the bundled scalp, the
 //     head shaking ±0.5 rad at 1 Hz, head and trunk tables with the body's contacts, a 0.5 m/s
-//     wind), 200, 1000 or 5000 guides, hair–hair contacts off (0) or on (1), on 1 or 2
-//     threads, after 0.5 s of the run. The clumps fill the head's fibres shared among the
-//     guides (HairHairParameters::automaticThickness: 1.21, 0.54, 0.24 mm), given
-//     explicitly so that a build of another commit runs the same scene: this file uses only
-//     hair::Simulation's options, which are the same before and after the coupled solve
-//     (copy it into a baseline tree to compare; docs/benchmarks.md).
-//   Wall time (UseRealTime) and the process's CPU time (all threads).
+//     wind), 200, 1000 or 5000 guides, hair–hair interaction by Hair Simulation's Hair Hair
+//     Contacts: off (0), the coupled solve of every close pair (1), the grid (2, the
+//     default), the grid and the near field (3); on 1 or 2 threads, after 0.5 s of the run.
+//     The coupled solve and the near field are registered at 200 guides only (seconds a
+//     frame at 1000).
+//   Wall time (UseRealTime), the process's CPU time (all threads), and per frame the shares
+//   of the grid (its splat), the near field's search and its solve [ms], the pairs the near
+//   field tracked and those that acted, per guide.
 #include "DemoScene.h"
 #include "simulation/Simulation.h"
 
@@ -34,7 +35,7 @@ const BundledBody& body()
 void BM_Frame(benchmark::State& state)
 {
   const int count = static_cast<int>(state.range(0));
-  const bool hairHair = state.range(1) != 0;
+  const int mode = static_cast<int>(state.range(1));
   const int threads = static_cast<int>(state.range(2));
   std::vector<GuideStrand> guides;
   if (Status st = demoGuides(body(), count, 10, guides); !st)
@@ -45,9 +46,9 @@ void BM_Frame(benchmark::State& state)
   SimulationOptions o;
   o.threads = threads;
   o.superHelix.contacts.enabled = true;
-  o.superHelix.hairHairEnabled = hairHair;
-  // r √(120 000 / (guides × ½)) for the wavy preset's r = 35 µm.
-  o.superHelix.hairHair.thickness = guides[0].hair.radius * std::sqrt(120000.0 / (count * 0.5));
+  o.superHelix.hairHairEnabled = mode != 0;
+  if (mode != 0)
+    o.superHelix.hairHairSolver = static_cast<HairHairSolver>(mode);
   Simulation sim;
   Status st = sim.initialize(guides, demoScene(body()), o);
   if (st)
@@ -57,7 +58,9 @@ void BM_Frame(benchmark::State& state)
     state.SkipWithError(st.message().c_str());
     return;
   }
+  const auto* model = dynamic_cast<const SuperHelixModel*>(&sim.model());
   int frames = 1 + WarmupFrames;
+  double grid = 0, volume = 0, search = 0, solve = 0, tracked = 0, active = 0;
   for (auto _ : state)
   {
     if (!(st = sim.advanceTo(++frames)))
@@ -65,15 +68,36 @@ void BM_Frame(benchmark::State& state)
       state.SkipWithError(st.message().c_str());
       break;
     }
+    if (mode >= 2 && model)
+    {
+      grid += model->hairGrid().stats().seconds;
+      volume += model->hairGrid().stats().solveSeconds;
+      search += model->nearField().stats().searchSeconds;
+      solve += model->nearField().stats().solveSeconds;
+      tracked += model->nearField().stats().tracked;
+      active += model->nearField().stats().active;
+    }
   }
+  const double n = static_cast<double>(state.iterations());
   state.counters["guides"] = count;
-  state.counters["thickness_mm"] = 1e3 * o.superHelix.hairHair.thickness;
+  state.counters["grid_ms"] = 1e3 * grid / n;
+  state.counters["volume_ms"] = 1e3 * volume / n;
+  state.counters["search_ms"] = 1e3 * search / n;
+  state.counters["solve_ms"] = 1e3 * solve / n;
+  state.counters["tracked_per_guide"] = tracked / n / count;
+  state.counters["active_per_guide"] = active / n / count;
 }
 } // namespace
 
 BENCHMARK(BM_Frame)
-    ->ArgsProduct({{200, 1000, 5000}, {0, 1}, {1, 2}})
-    ->Iterations(3)
+    ->ArgsProduct({{200, 1000, 5000}, {0, 2}, {1, 2}})
+    ->Iterations(10)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Frame)
+    ->ArgsProduct({{200}, {1, 3}, {1, 2}})
+    ->Iterations(10)
     ->UseRealTime()
     ->MeasureProcessCPUTime()
     ->Unit(benchmark::kMillisecond);

@@ -13,6 +13,7 @@
 #include "io/StateFile.h"
 #include "simulation/GhostStrands.h"
 #include "simulation/Simulation.h"
+#include "superhelix/SuperHelixModel.h"
 
 #include <gtest/gtest.h>
 
@@ -611,33 +612,84 @@ TEST(Failures, AStrandThatBlowsUpOnOneRankStopsEveryRank)
   }
 }
 
-TEST(Failures, HairHairContactsAreRefusedOnMoreThanOneRank)
+TEST(Failures, HairHairPairsAreRefusedOnMoreThanOneRank)
 {
-  // Each rank would see contacts among its own strands only (a run that silently differs
-  // from one rank's): refused on every rank, with what to do; on one rank the run is built.
+  // The pairs of the near field and of the coupled solve would be found among each rank's
+  // own strands only (a run that silently differs from one rank's): refused on every rank,
+  // with what to do; on one rank the run is built. (The grid, the default, runs: below.)
   const Ranks world(MPI_COMM_WORLD);
   if (world.size() < 2)
   {
     GTEST_SKIP() << "needs 2 ranks";
   }
   const std::vector<GuideStrand> guides = mixedGuides(8, 5);
-  SimulationOptions o = optionsFor(ModelType::SuperHelix);
-  o.superHelix.hairHairEnabled = true;
-  o.ranks = world;
-  Simulation sim;
-  const Status s = sim.initialize(guides, demoScene(body()), o, StorageOptions());
-  ASSERT_FALSE(s.ok());
-  EXPECT_NE(s.message().find("hair–hair contacts: not available under MPI"), std::string::npos)
-      << s.message();
-  EXPECT_NE(s.message().find("turn hair–hair contacts off"), std::string::npos) << s.message();
-  const FirstRanks sub = firstRanks(1);
-  if (sub.member)
+  for (HairHairSolver solver : {HairHairSolver::GridAndNearField, HairHairSolver::Coupled})
   {
-    o.ranks = sub.ranks;
-    Simulation alone;
-    const Status one = alone.initialize(guides, demoScene(body()), o, StorageOptions());
-    EXPECT_TRUE(one.ok()) << one.message();
+    SimulationOptions o = optionsFor(ModelType::SuperHelix);
+    o.superHelix.hairHairEnabled = true;
+    o.superHelix.hairHairSolver = solver;
+    o.ranks = world;
+    Simulation sim;
+    const Status s = sim.initialize(guides, demoScene(body()), o, StorageOptions());
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.message().find("is not available under MPI"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find("Choose the grid"), std::string::npos) << s.message();
+    const FirstRanks sub = firstRanks(1);
+    if (sub.member)
+    {
+      o.ranks = sub.ranks;
+      Simulation alone;
+      const Status one = alone.initialize(guides, demoScene(body()), o, StorageOptions());
+      EXPECT_TRUE(one.ok()) << one.message();
+    }
   }
+}
+
+TEST(HairGrid, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberOfRanks)
+{
+  // 60 of the demo's guides, close on the scalp so that the grid acts (its friction
+  // dissipates and its pressure works), 15 frames of the shake on 1, 2 and 4 ranks: each
+  // rank splats its own strands and the grid is summed over the ranks (in fixed point, so
+  // the sum is the same in any order): the strands are the same, bit for bit, and so is
+  // the energy table.
+  if (worldSize() < 4)
+  {
+    GTEST_SKIP() << "needs 4 ranks (mpirun -np 4)";
+  }
+  const std::vector<GuideStrand> guides = mixedGuides(60, 5);
+  SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  ASSERT_TRUE(o.superHelix.hairHairEnabled);
+  ASSERT_EQ(o.superHelix.hairHairSolver, HairHairSolver::Grid);
+  std::map<int, Outcome> runs;
+  for (int n : {1, 2, 4})
+  {
+    const FirstRanks sub = firstRanks(n);
+    if (sub.member)
+    {
+      runs[n] = run(guides, o, sub.ranks, 15);
+      EXPECT_TRUE(runs[n].status.ok()) << runs[n].status.message();
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+  if (worldRank() != 0)
+  {
+    return;
+  }
+  for (int n : {1, 2, 4})
+  {
+    ASSERT_TRUE(runs[n].status.ok());
+  }
+  EXPECT_GT(runs[1].table.at("hair_grid_dissipated").back(), 0);
+  EXPECT_NE(runs[1].table.at("hair_grid_work").back(), 0);
+  for (int n : {2, 4})
+  {
+    EXPECT_EQ(largestDifference(runs[1], runs[n]), 0.0) << n << " ranks";
+    expectSameEnergy(runs[1], runs[n], guides.size());
+  }
+  std::printf("the grid on 1, 2 and 4 ranks: largest difference 0; dissipated %.3g J, work "
+              "%.3g J\n",
+              runs[1].table.at("hair_grid_dissipated").back(),
+              runs[1].table.at("hair_grid_work").back());
 }
 
 TEST(Failures, AFrameOneRankRefusesIsWrittenByNone)

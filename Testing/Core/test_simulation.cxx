@@ -325,6 +325,7 @@ TEST(Simulation, HairHairContactsKeepGuidesApart)
     o.timeStep = 1.0 / 30;
     o.frameInterval = 1.0 / 30;
     o.superHelix.hairHairEnabled = hairHair;
+    o.superHelix.hairHairSolver = HairHairSolver::Coupled; // the penalty's distance
     o.superHelix.hairHair.thickness = 2.5e-3; // two guides: the automatic one would be 17 mm
     Simulation sim;
     status = sim.initialize(g, {}, o);
@@ -373,6 +374,7 @@ TEST(Simulation, HairHairContactsWithAToleranceTakeCommonSubsteps)
     o.timeStep = 1.0 / 30;
     o.frameInterval = 1.0 / 30;
     o.superHelix.hairHairEnabled = true;
+    o.superHelix.hairHairSolver = HairHairSolver::Coupled;
     o.superHelix.hairHair.thickness = 2.5e-3;
     o.superHelix.tolerance = tolerance;
     Simulation sim;

@@ -48,10 +48,12 @@ check(os.path.exists(txt) and "closure" in open(txt).read(), "the summary is wri
 def terms(e):
     """(stack, work, residual) recomputed here from the energy series."""
     stack = (e["kinetic"] - e["kinetic"][0]) + (e["elastic"] - e["elastic"][0])
-    if "friction_dissipated" in e:
-        stack = stack + e["friction_dissipated"] + e["air_dissipated"]
-    else:
+    # every dissipation: the sum when the series has it (hair–hair's included), else the
+    # Super-Helix's two
+    if "dissipated" in e:
         stack = stack + e["dissipated"]
+    else:
+        stack = stack + e["friction_dissipated"] + e["air_dissipated"]
     external = e["external_work"] if "external_work" in e else (
         e["root_work"] + e["wind_work"] + e["contact_work"] + e["load_work"])
     work = external - (e["gravitational"] - e["gravitational"][0])

@@ -182,6 +182,24 @@ check(not errors.messages and attrs.get("hair_hair_per_length") == 1
       and attrs.get("hair_hair_reference_length") == 0.01,
       f"a run with the per-length hair–hair penalty goes through and is recorded ({errors.messages[:1]})")
 
+# The default interaction: the grid (volume and friction), recorded with its parameters
+# and the cell it used; a bad grid parameter is refused by name.
+g_state = os.path.join(tmp, "hair_grid.h5")
+g = HairSimulation(Input=strands, Colliders=[head], Duration=0.3, StateFileName=g_state)  # noqa: F821
+errors = Errors(g)
+g.UpdatePipeline(0.3)
+with h5py.File(g_state, "r", swmr=True) as f:
+    attrs = dict(f.attrs)
+check(not errors.messages and attrs.get("hair_hair_contacts") == 2
+      and attrs.get("hair_volume_fraction") == 0.05 and attrs.get("hair_volume") == 1
+      and attrs.get("hair_grid_friction") == 10 and attrs.get("hair_grid_cell_size", 0) >= 0.008,
+      f"the grid is on by default and recorded ({ {k: v for k, v in attrs.items() if 'hair' in k} })")
+bad_g = HairSimulation(Input=strands, Duration=0.1, HairVolume=2)  # noqa: F821
+errors = Errors(bad_g)
+bad_g.UpdatePipeline(0.0)
+check(any("hair grid" in m and "volume" in m for m in errors.messages),
+      f"a hair volume above 1 is refused by name ({errors.messages[:1]})")
+
 # The quadrature tolerance (advanced): out of range is refused by name; a loose one goes
 # through and is recorded; the default is Core's.
 bad_q = HairSimulation(Input=strands, Duration=0.1, QuadratureTolerance=0.5)  # noqa: F821
