@@ -3,7 +3,6 @@
 #include "common/Parallel.h"
 
 #include <algorithm>
-#include <queue>
 
 namespace hair
 {
@@ -63,7 +62,8 @@ void UniformGrid::sortEntries()
     buckets <<= 1;
   Mask = buckets - 1;
   Start.assign(buckets + 1, 0);
-  std::vector<std::uint32_t> key(Entries.size());
+  std::vector<std::uint32_t>& key = Keys;
+  key.resize(Entries.size());
   Lowest.setConstant(std::numeric_limits<int>::max());
   Highest.setConstant(std::numeric_limits<int>::min());
   for (std::size_t e = 0; e < Entries.size(); ++e)
@@ -132,62 +132,96 @@ void UniformGrid::nearest(const Eigen::Vector3d& p, int k, std::vector<int>& out
                           double maxDistance) const
 {
   out.clear();
-  if (Boxes || Count == 0 || k <= 0)
+  if (Boxes || Count == 0 || k <= 0 || !(maxDistance >= 0))
     return;
-  // Rings of cells (Chebyshev distance `ring` from p's cell): every point within
-  // ring × the smallest cell side of p lies in rings 0 … ring (p may sit anywhere in its
-  // cell), so once the k-th nearest found is within that, no later ring can do better.
-  const Eigen::Array3i c = cellOf(p);
-  const double side = Cell.minCoeff();
-  // The largest ring that can hold a point: the item cells' extent around c.
-  const int farthest = std::max({(c - Lowest).abs().maxCoeff(), (Highest - c).abs().maxCoeff(), 0});
-  using Found = std::pair<double, int>; // squared distance, index: a max-heap of the best k
-  std::priority_queue<Found> best;
-  const double limit2 = maxDistance * maxDistance;
-  auto consider = [&](const Entry& e)
+  k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(k), Count));
+  // The best k so far, (distance, index), a max-heap: its top is the one to beat.
+  using Found = std::pair<double, int>;
+  std::vector<Found> best;
+  best.reserve(static_cast<std::size_t>(k) + 1);
+  auto consider = [&](int item)
   {
-    const double d2 = (Points[e.item] - p).squaredNorm();
-    if (d2 > limit2)
+    const double d = (Points[item] - p).norm();
+    if (!(d <= maxDistance))
       return;
-    const Found f(d2, e.item);
+    const Found f(d, item);
     if (static_cast<int>(best.size()) < k)
-      best.push(f);
-    else if (f < best.top())
     {
-      best.pop();
-      best.push(f);
+      best.push_back(f);
+      std::push_heap(best.begin(), best.end());
+    }
+    else if (f < best.front())
+    {
+      std::pop_heap(best.begin(), best.end());
+      best.back() = f;
+      std::push_heap(best.begin(), best.end());
     }
   };
-  for (int ring = 0; ring <= farthest; ++ring)
+  auto measureAll = [&]()
   {
-    for (int x = c.x() - ring; x <= c.x() + ring; ++x)
-      for (int y = c.y() - ring; y <= c.y() + ring; ++y)
+    best.clear();
+    for (std::size_t i = 0; i < Count; ++i)
+      consider(static_cast<int>(i));
+  };
+  // Rings of cells (Chebyshev distance `ring` from p's cell c), clipped to the box of the
+  // occupied cells: every point within ring × the cell's side of p lies in rings 0 … ring
+  // (p may sit anywhere in its cell), so once the k-th nearest found is within that, no
+  // later ring can hold a point as near (nor one at the same distance: ties stay by index).
+  const Eigen::Array3i c = cellOf(p);
+  const double side = Cell.minCoeff();
+  const int first = std::max({(Lowest - c).maxCoeff(), (c - Highest).maxCoeff(), 0});
+  const int last = std::max((c - Lowest).abs().maxCoeff(), (Highest - c).abs().maxCoeff());
+  // Cells of the clipped cube of rings 0 … ring.
+  auto cubeCells = [&](int ring) -> std::int64_t
+  {
+    if (ring < 0)
+      return 0;
+    const Eigen::Array3i lo = (c - ring).max(Lowest), hi = (c + ring).min(Highest);
+    if ((hi < lo).any())
+      return 0;
+    return std::int64_t(hi.x() - lo.x() + 1) * (hi.y() - lo.y() + 1) * (hi.z() - lo.z() + 1);
+  };
+  // A cell costs about as much to look up as a point to measure.
+  const std::int64_t budget = static_cast<std::int64_t>(Count) + 27;
+  if (k == static_cast<int>(Count) && std::isinf(maxDistance))
+    measureAll(); // every point is an answer
+  else
+    for (int ring = first; ring <= last; ++ring)
+    {
+      if (cubeCells(ring) > budget)
       {
-        const bool edge = std::abs(x - c.x()) == ring || std::abs(y - c.y()) == ring;
-        if (edge)
-        {
-          for (int z = c.z() - ring; z <= c.z() + ring; ++z)
-            forEachInCell(x, y, z, consider);
-        }
-        else
-        {
-          forEachInCell(x, y, c.z() - ring, consider);
-          if (ring > 0)
-            forEachInCell(x, y, c.z() + ring, consider);
-        }
+        measureAll();
+        break;
       }
-    const double reach = ring * side; // every point closer than this has been seen
-    if (static_cast<int>(best.size()) == k && best.top().first <= reach * reach)
-      break;
-    if (reach > maxDistance)
-      break;
-  }
+      const Eigen::Array3i lo = (c - ring).max(Lowest), hi = (c + ring).min(Highest);
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+        {
+          auto visit = [&](int z)
+          { forEachInCell(x, y, z, [&](const Entry& e) { consider(e.item); }); };
+          if (std::abs(x - c.x()) == ring || std::abs(y - c.y()) == ring)
+            for (int z = lo.z(); z <= hi.z(); ++z)
+              visit(z);
+          else
+          {
+            if (c.z() - ring >= lo.z())
+              visit(c.z() - ring);
+            if (ring > 0 && c.z() + ring <= hi.z())
+              visit(c.z() + ring);
+          }
+        }
+      // Every point nearer than this has been seen (less a sliver for the rounding of the
+      // points' cells).
+      const double reach = (ring - CellSlack) * side;
+      if (static_cast<int>(best.size()) == k && best.front().first <= reach)
+        break;
+      if (reach >= maxDistance)
+        break;
+    }
+  std::sort_heap(best.begin(), best.end());
   out.resize(best.size());
-  for (int i = static_cast<int>(best.size()) - 1; i >= 0; --i)
-  {
-    out[i] = best.top().second;
-    best.pop();
-  }
+  for (std::size_t i = 0; i < best.size(); ++i)
+    out[i] = best[i].second;
 }
 
 } // namespace hair

@@ -46,23 +46,31 @@ public:
   /// each, sorted, found on up to `threads` threads (the same pairs on any number).
   void overlappingPairs(std::vector<std::pair<int, int>>& out, int threads = 1) const;
 
-  /// Points only: calls f(i) for every point within `radius` of p (distance ≤ radius), in no
-  /// particular order.
+  /// Points only: calls f(i) for every point within `radius` of p ((point − p).norm() ≤
+  /// radius, exactly), in no particular order (a radius spanning more cells than there are
+  /// points measures every point).
   template <class F>
   void forEachWithin(const Eigen::Vector3d& p, double radius, F&& f) const;
-  /// Points only: the (up to) k points nearest to p, nearest first (ties by index), among
-  /// those within maxDistance. Searches rings of cells outwards until the k found are
-  /// closer than any point of the next ring could be.
+  /// Points only: the (up to) k points nearest to p, among those within maxDistance, nearest
+  /// first by (point − p).norm(), ties by index. Searches rings of cells outwards until the
+  /// k found are closer than any point of the next ring could be; a search that would visit
+  /// more cells than there are points (a point far from the others, k about the count)
+  /// measures every point instead.
   void nearest(const Eigen::Vector3d& p, int k, std::vector<int>& out,
                double maxDistance = std::numeric_limits<double>::infinity()) const;
 
-  /// The cell holding x (integer coordinates).
+  /// The cell holding x (integer coordinates; clamped to ±2²⁹ for x far outside the
+  /// items, so that the conversion and the searches' cell arithmetic stay in range).
   Eigen::Array3i cellOf(const Eigen::Vector3d& x) const
   {
-    return ((x - Origin).array() * Inverse).floor().cast<int>();
+    return ((x - Origin).array() * Inverse).floor().max(-FarCell).min(FarCell).cast<int>();
   }
 
 private:
+  static constexpr double FarCell = 536870912.0; // 2^29
+  // A point's cell is found within this fraction of a cell of where exact arithmetic puts
+  // it, for coordinates up to ~10^9 cells from the origin: searches widen by it.
+  static constexpr double CellSlack = 1e-6;
   struct Entry
   {
     int item, group;
@@ -95,7 +103,7 @@ private:
   std::vector<Box3> BoxList;
   std::vector<Eigen::Vector3d> Points;
   std::vector<Entry> Entries, Sorted;
-  std::vector<std::uint32_t> Start;
+  std::vector<std::uint32_t> Start, Keys;
   std::uint32_t Mask = 0;
   Eigen::Array3i Lowest = Eigen::Array3i::Zero(), Highest = Eigen::Array3i::Zero();
 };
@@ -103,20 +111,33 @@ private:
 template <class F>
 void UniformGrid::forEachWithin(const Eigen::Vector3d& p, double radius, F&& f) const
 {
-  if (Count == 0 || !(radius >= 0))
+  if (Boxes || Count == 0 || !(radius >= 0))
     return;
-  const Eigen::Array3i lo = cellOf(p.array() - radius).max(Lowest);
-  const Eigen::Array3i hi = cellOf(p.array() + radius).min(Highest);
-  const double r2 = radius * radius;
+  const Eigen::Array3d reach = radius + CellSlack * Cell;
+  const Eigen::Array3i lo = cellOf(p.array() - reach).max(Lowest);
+  const Eigen::Array3i hi = cellOf(p.array() + reach).min(Highest);
+  // norm() ≤ radius exactly: the squares decide except within rounding of the boundary.
+  const double r2 = radius * radius, near2 = r2 * (1 + 1e-12);
+  auto test = [&](int item)
+  {
+    const double d2 = (Points[item] - p).squaredNorm();
+    if (d2 <= r2 || (d2 <= near2 && std::sqrt(d2) <= radius))
+      f(item);
+  };
+  if ((hi < lo).any())
+    return;
+  const Eigen::Array<std::int64_t, 3, 1> span = (hi - lo + 1).cast<std::int64_t>();
+  if (span.prod() > static_cast<std::int64_t>(Count) + 27)
+  {
+    // More cells than points (a radius of many cells): every point is measured instead.
+    for (std::size_t i = 0; i < Count; ++i)
+      test(static_cast<int>(i));
+    return;
+  }
   for (int x = lo.x(); x <= hi.x(); ++x)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int z = lo.z(); z <= hi.z(); ++z)
-        forEachInCell(x, y, z,
-                      [&](const Entry& e)
-                      {
-                        if ((Points[e.item] - p).squaredNorm() <= r2)
-                          f(e.item);
-                      });
+        forEachInCell(x, y, z, [&](const Entry& e) { test(e.item); });
 }
 
 } // namespace hair
