@@ -27,7 +27,9 @@ void UniformGrid::build(const std::vector<Box3>& boxes, const std::vector<int>& 
     for (int x = lo.x(); x <= hi.x(); ++x)
       for (int y = lo.y(); y <= hi.y(); ++y)
         for (int z = lo.z(); z <= hi.z(); ++z)
-          Entries.push_back({static_cast<int>(k), group, x, y, z});
+          Entries.push_back(
+              {static_cast<int>(k), group, x, y, z,
+               static_cast<std::uint8_t>((x == lo.x()) | (y == lo.y()) << 1 | (z == lo.z()) << 2)});
   }
   sortEntries();
 }
@@ -48,7 +50,7 @@ void UniformGrid::build(const std::vector<Eigen::Vector3d>& points, double cell)
   for (std::size_t k = 0; k < points.size(); ++k)
   {
     const Eigen::Array3i c = cellOf(points[k]);
-    Entries.push_back({static_cast<int>(k), -1, c.x(), c.y(), c.z()});
+    Entries.push_back({static_cast<int>(k), -1, c.x(), c.y(), c.z(), 7});
   }
   sortEntries();
 }
@@ -89,7 +91,7 @@ void UniformGrid::overlappingPairs(std::vector<std::pair<int, int>>& out, int th
     return;
   // Pairs in each cell; a pair whose boxes share several cells is kept only in the cell
   // holding the low corner of the boxes' intersection. Blocks of buckets on the threads,
-  // merged in block order and sorted: the same pairs on any number of threads.
+  // then sorted: the same pairs on any number of threads.
   const std::int64_t buckets = static_cast<std::int64_t>(Start.size()) - 1;
   const std::int64_t grain = std::max<std::int64_t>(256, buckets / 64);
   std::vector<std::vector<std::pair<int, int>>> found(
@@ -109,23 +111,42 @@ void UniformGrid::overlappingPairs(std::vector<std::pair<int, int>>& out, int th
                          if ((ei.group >= 0 && ei.group == ej.group) || ei.ix != ej.ix ||
                              ei.iy != ej.iy || ei.iz != ej.iz)
                            continue; // one group, or another cell with the same hash
-                         const Box3& bj = BoxList[ej.item];
-                         if (!bi.overlaps(bj))
-                           continue;
-                         const Eigen::Array3i corner = cellOf(bi.lo.cwiseMax(bj.lo));
-                         if (corner.x() != ei.ix || corner.y() != ei.iy || corner.z() != ei.iz)
+                         // The low corner of the boxes' intersection is in the larger of
+                         // their first cells along each axis: here if one of them starts
+                         // here along each axis.
+                         if ((ei.low | ej.low) != 7 || !bi.overlaps(BoxList[ej.item]))
                            continue;
                          mine.emplace_back(std::min(ei.item, ej.item), std::max(ei.item, ej.item));
                        }
                      }
                  });
+  // Sorted by two counting sorts, on the second item then (stable) on the first: O(pairs +
+  // items), no comparisons.
   std::size_t total = 0;
-  for (const auto& f : found)
-    total += f.size();
-  out.reserve(total);
-  for (const auto& f : found)
-    out.insert(out.end(), f.begin(), f.end());
-  std::sort(out.begin(), out.end());
+  for (const auto& list : found)
+    total += list.size();
+  std::vector<std::size_t> at(Count + 1, 0);
+  auto cumulate = [&]()
+  {
+    for (std::size_t i = 0; i < Count; ++i)
+      at[i + 1] += at[i];
+  };
+  for (const auto& list : found)
+    for (const std::pair<int, int>& p : list)
+      ++at[static_cast<std::size_t>(p.second) + 1];
+  cumulate();
+  std::vector<std::pair<int, int>> bySecond(total);
+  for (const auto& list : found)
+    for (const std::pair<int, int>& p : list)
+      bySecond[at[static_cast<std::size_t>(p.second)]++] = p;
+  found.clear();
+  std::fill(at.begin(), at.end(), 0);
+  for (const std::pair<int, int>& p : bySecond)
+    ++at[static_cast<std::size_t>(p.first) + 1];
+  cumulate();
+  out.resize(total);
+  for (const std::pair<int, int>& p : bySecond)
+    out[at[static_cast<std::size_t>(p.first)]++] = p;
 }
 
 void UniformGrid::nearest(const Eigen::Vector3d& p, int k, std::vector<int>& out,

@@ -75,6 +75,7 @@ private:
   {
     int item, group;
     int ix, iy, iz;
+    std::uint8_t low; // boxes: bit a set where the cell is the box's first along axis a
   };
   std::uint32_t bucketOf(int x, int y, int z) const
   {
