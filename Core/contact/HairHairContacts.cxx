@@ -240,18 +240,16 @@ void HairHairContacts::broadPhase()
   const int np = static_cast<int>(Pieces.size());
   if (np == 0)
     return;
-  // Uniform grid, hashed. Automatic cells: per axis, twice the median extent of the boxes
-  // along it (hanging hair has long thin boxes; cubic cells as large as the pieces would
-  // hold many strands each). A box longer than its cell spans a few more cells; if that
-  // ever gives more than 27 entries per piece on average, the cells are doubled. A
-  // requested cellSize is isotropic, honoured down to a quarter of the largest box.
-  Eigen::Vector3d origin = Pieces[0].lo;
+  // The pieces' boxes in the uniform grid (geometry/UniformGrid), grouped by strand: its
+  // overlapping pairs, sorted, are the candidates. Automatic cells: per axis, twice the
+  // median extent of the boxes along it (hanging hair has long thin boxes; cubic cells as
+  // large as the pieces would hold many strands each). A box longer than its cell spans a
+  // few more cells; if that ever gives more than 27 entries per piece on average, the
+  // cells are doubled. A requested cellSize is isotropic, honoured down to a quarter of the
+  // largest box.
   double largest = 0;
   for (const Piece& p : Pieces)
-  {
-    origin = origin.cwiseMin(p.lo);
     largest = std::max(largest, (p.hi - p.lo).maxCoeff());
-  }
   Eigen::Array3d cell;
   if (Params.cellSize > 0)
     cell.setConstant(std::max(Params.cellSize, 0.25 * largest));
@@ -275,71 +273,15 @@ void HairHairContacts::broadPhase()
       cell *= 2;
     }
   }
-  const Eigen::Array3d inv = cell.inverse();
-  auto cellOf = [&](const Eigen::Vector3d& x)
-  { return ((x - origin).array() * inv).floor().cast<int>().eval(); };
-  Entries.clear();
+  Boxes.resize(static_cast<size_t>(np));
+  StrandOf.resize(static_cast<size_t>(np));
   for (int k = 0; k < np; ++k)
   {
-    const Piece& p = Pieces[k];
-    const Eigen::Array3i lo = cellOf(p.lo);
-    const Eigen::Array3i hi = cellOf(p.hi);
-    for (int x = lo.x(); x <= hi.x(); ++x)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int z = lo.z(); z <= hi.z(); ++z)
-          Entries.push_back({k, p.strand, x, y, z});
+    Boxes[k] = {Pieces[k].lo, Pieces[k].hi};
+    StrandOf[k] = Pieces[k].strand;
   }
-  // Counting sort of the entries by hashed cell: O(entries).
-  std::uint32_t buckets = 1;
-  while (2 * buckets < Entries.size())
-    buckets <<= 1;
-  const std::uint32_t mask = buckets - 1;
-  auto hash = [mask](const Entry& e)
-  {
-    return (static_cast<std::uint32_t>(e.ix) * 73856093u ^
-            static_cast<std::uint32_t>(e.iy) * 19349663u ^
-            static_cast<std::uint32_t>(e.iz) * 83492791u) &
-           mask;
-  };
-  BucketStart.assign(buckets + 1, 0);
-  CellKey.resize(Entries.size());
-  for (size_t e = 0; e < Entries.size(); ++e)
-  {
-    CellKey[e] = hash(Entries[e]);
-    ++BucketStart[CellKey[e] + 1];
-  }
-  for (std::uint32_t b = 0; b < buckets; ++b)
-    BucketStart[b + 1] += BucketStart[b];
-  Sorted.resize(Entries.size());
-  {
-    std::vector<std::uint32_t> fill(BucketStart.begin(), BucketStart.end() - 1);
-    for (size_t e = 0; e < Entries.size(); ++e)
-      Sorted[fill[CellKey[e]]++] = Entries[e];
-  }
-  // Pairs in each cell; a pair whose boxes share several cells is kept only in the cell
-  // holding the low corner of the boxes' intersection.
-  for (std::uint32_t b = 0; b < buckets; ++b)
-  {
-    const std::uint32_t first = BucketStart[b], last = BucketStart[b + 1];
-    for (std::uint32_t i = first; i + 1 < last; ++i)
-    {
-      const Entry& ei = Sorted[i];
-      const Piece& pi = Pieces[ei.piece];
-      for (std::uint32_t j = i + 1; j < last; ++j)
-      {
-        const Entry& ej = Sorted[j];
-        if (ei.strand == ej.strand || ei.ix != ej.ix || ei.iy != ej.iy || ei.iz != ej.iz)
-          continue; // the same strand, or another cell with the same hash
-        const Piece& pj = Pieces[ej.piece];
-        if ((pi.lo.array() > pj.hi.array()).any() || (pj.lo.array() > pi.hi.array()).any())
-          continue;
-        const Eigen::Array3i corner = cellOf(pi.lo.cwiseMax(pj.lo));
-        if (corner.x() != ei.ix || corner.y() != ei.iy || corner.z() != ei.iz)
-          continue;
-        Candidates.emplace_back(std::min(ei.piece, ej.piece), std::max(ei.piece, ej.piece));
-      }
-    }
-  }
+  Grid.build(Boxes, StrandOf, cell);
+  Grid.overlappingPairs(Candidates, Params.threads);
 }
 
 std::vector<HairHairContacts::Contact> HairHairContacts::narrowPhase(double h)
@@ -462,7 +404,7 @@ std::vector<HairHairContacts::Contact> HairHairContacts::narrowPhase(double h)
                           { return x.featureA == y.featureA && x.featureB == y.featureB; }),
               out.end());
   }
-  // In the order of the strands and their pieces (the grid's order is the hash's).
+  // In the order of the strands and their pieces (the merge above sorted by features).
   std::sort(out.begin(), out.end(),
             [](const Contact& x, const Contact& y)
             { return std::tie(x.keyA, x.keyB) < std::tie(y.keyA, y.keyB); });

@@ -21,6 +21,7 @@
 #include "common/Status.h"
 #include "contact/ContactResponse.h"
 #include "contact/SegmentGeometry.h"
+#include "geometry/UniformGrid.h"
 
 #include <Eigen/Core>
 
@@ -204,14 +205,10 @@ private:
   std::vector<int> Ids;
   std::vector<Piece> Pieces;
   std::vector<std::pair<int, int>> Candidates; // piece indices
-  // Grid scratch.
-  std::vector<std::uint32_t> CellKey, BucketStart;
-  struct Entry
-  {
-    int piece, strand;
-    int ix, iy, iz;
-  };
-  std::vector<Entry> Entries, Sorted;
+  // The broad phase's grid of the pieces' boxes, grouped by strand (kept for its storage).
+  std::vector<Box3> Boxes;
+  std::vector<int> StrandOf;
+  UniformGrid Grid;
 
   std::vector<Contact> Found;
   std::vector<std::vector<int>> Coupling;                    // per strand

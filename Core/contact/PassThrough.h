@@ -25,7 +25,7 @@ struct PassThrough
 /// distance per frame counts too). Pieces whose closest point is an end in either frame are
 /// skipped (a piece sliding past the end of another turns that direction without any
 /// crossing), so a crossing whose closest points stay at an end in one of the frames is not
-/// counted by that pair (its neighbours usually count it). Pairs found by a uniform grid,
+/// counted by that pair (its neighbours usually count it). Pairs found by geometry/UniformGrid,
 /// in order (strandA, pieceA, strandB, pieceB).
 std::vector<PassThrough> findPassThroughs(const std::vector<std::vector<Eigen::Vector3d>>& before,
                                           const std::vector<std::vector<Eigen::Vector3d>>& after,

@@ -2,8 +2,9 @@
 // The one spatial index of Core: items (points, or axis-aligned boxes) binned into the cells
 // of a uniform grid, the cells hashed (no bounds to fit, no memory for empty space) and the
 // entries counting-sorted by hashed cell, O(items). Every neighbour search of Core goes
-// through it: the hair–hair near field's pair search (contact/NearField), the pass-through
-// count (contact/PassThrough), Hair Interpolation's binding of rendered strands to guides
+// through it: the hair–hair near field's pair search (contact/NearField), the coupled
+// solve's broad phase (contact/HairHairContacts), the pass-through count
+// (contact/PassThrough), Hair Interpolation's binding of rendered strands to guides
 // (render/HairInterpolation) and the ghost strands of MPI runs (simulation/GhostStrands).
 #include <Eigen/Core>
 

@@ -1,6 +1,7 @@
 #include "render/HairInterpolation.h"
 
 #include "common/Parallel.h"
+#include "geometry/UniformGrid.h"
 #include "strands/RootSampling.h"
 
 #include <Eigen/SVD>
@@ -8,10 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <random>
 #include <sstream>
-#include <unordered_map>
 
 namespace hair
 {
@@ -25,80 +24,17 @@ double smoothstep(double x)
   return x * x * (3 - 2 * x);
 }
 
-/// Guide roots hashed in a uniform grid, for the nearest guides of a point.
-class RootGrid
+/// The `k` guides nearest to x (fewer when there are fewer), nearest first (ties by index),
+/// with their distances.
+void nearestGuides(const UniformGrid& grid, const std::vector<Eigen::Vector3d>& roots,
+                   const Eigen::Vector3d& x, int k, std::vector<int>& scratch,
+                   std::vector<std::pair<double, int>>& out)
 {
-public:
-  RootGrid(const std::vector<Eigen::Vector3d>& roots, double cell) : Roots(roots), Cell(cell)
-  {
-    for (std::size_t i = 0; i < roots.size(); ++i)
-      Cells[key(index(roots[i]))].push_back(static_cast<int>(i));
-    Lower = Upper = roots.front();
-    for (const Eigen::Vector3d& r : roots)
-    {
-      Lower = Lower.cwiseMin(r);
-      Upper = Upper.cwiseMax(r);
-    }
-  }
-
-  /// The `k` guides nearest to x (fewer when there are fewer), nearest first, with their
-  /// distances.
-  void nearest(const Eigen::Vector3d& x, int k, std::vector<std::pair<double, int>>& out) const
-  {
-    k = std::min<int>(k, static_cast<int>(Roots.size()));
-    const Eigen::Vector3i c = index(x);
-    const double span = (Upper - Lower).norm() + (x - Lower).norm() + Cell;
-    for (int ring = 1;; ring *= 2)
-    {
-      out.clear();
-      const double cells = std::pow(2.0 * ring + 1, 3);
-      if (cells > 27.0 * double(Cells.size()) + 1000 || ring * Cell > span)
-      {
-        // Far from every root: all of them, nearest first.
-        for (std::size_t g = 0; g < Roots.size(); ++g)
-          out.emplace_back((Roots[g] - x).norm(), static_cast<int>(g));
-        std::partial_sort(out.begin(), out.begin() + k, out.end());
-        out.resize(k);
-        return;
-      }
-      for (int i = -ring; i <= ring; ++i)
-        for (int j = -ring; j <= ring; ++j)
-          for (int l = -ring; l <= ring; ++l)
-          {
-            const auto it = Cells.find(key(c + Eigen::Vector3i(i, j, l)));
-            if (it == Cells.end())
-              continue;
-            for (int g : it->second)
-              out.emplace_back((Roots[g] - x).norm(), g);
-          }
-      // Every guide within ring·Cell of x is in the cells searched.
-      if (static_cast<int>(out.size()) >= k)
-      {
-        std::partial_sort(out.begin(), out.begin() + k, out.end());
-        if (out[k - 1].first <= ring * Cell)
-        {
-          out.resize(k);
-          return;
-        }
-      }
-    }
-  }
-
-private:
-  Eigen::Vector3i index(const Eigen::Vector3d& x) const
-  {
-    return (x / Cell).array().floor().cast<int>();
-  }
-  static std::int64_t key(const Eigen::Vector3i& c)
-  {
-    return (std::int64_t(c.x() & 0x1fffff) << 42) | (std::int64_t(c.y() & 0x1fffff) << 21) |
-           std::int64_t(c.z() & 0x1fffff);
-  }
-  const std::vector<Eigen::Vector3d>& Roots;
-  double Cell;
-  Eigen::Vector3d Lower, Upper;
-  std::unordered_map<std::int64_t, std::vector<int>> Cells;
-};
+  grid.nearest(x, k, scratch);
+  out.resize(scratch.size());
+  for (std::size_t i = 0; i < scratch.size(); ++i)
+    out[i] = {(roots[scratch[i]] - x).norm(), scratch[i]};
+}
 
 /// One guide resampled at evenly spaced fractions of its length.
 struct Resampled
@@ -117,12 +53,14 @@ double guideSpacing(const std::vector<Eigen::Vector3d>& roots)
     double extent = 0;
     for (const Eigen::Vector3d& r : roots)
       extent = std::max(extent, (r - roots.front()).norm());
-    const RootGrid coarse(roots, std::max(extent / std::cbrt(double(roots.size())), 1e-6));
+    UniformGrid coarse;
+    coarse.build(roots, std::max(extent / std::cbrt(double(roots.size())), 1e-6));
     std::vector<double> nearestOther(roots.size());
     std::vector<std::pair<double, int>> found;
+    std::vector<int> scratch;
     for (std::size_t k = 0; k < roots.size(); ++k)
     {
-      coarse.nearest(roots[k], 2, found);
+      nearestGuides(coarse, roots, roots[k], 2, scratch, found);
       nearestOther[k] = found.size() > 1 ? found[1].first : extent;
     }
     std::nth_element(nearestOther.begin(), nearestOther.begin() + nearestOther.size() / 2,
@@ -184,7 +122,7 @@ struct HairInterpolation::GuideRoots
   std::vector<Eigen::Vector3d> roots;
   std::vector<Eigen::Matrix3d> frames;
   double spacing = 0;
-  std::unique_ptr<RootGrid> grid;
+  UniformGrid grid;
 };
 
 Status HairInterpolation::guideRoots(const std::vector<GuideStrand>& guides,
@@ -204,7 +142,7 @@ Status HairInterpolation::guideRoots(const std::vector<GuideStrand>& guides,
     out.frames[k] = guides[k].rootFrame();
   }
   out.spacing = guideSpacing(out.roots);
-  out.grid = std::make_unique<RootGrid>(out.roots, out.spacing);
+  out.grid.build(out.roots, out.spacing);
   return Status::Ok();
 }
 
@@ -236,12 +174,13 @@ Status HairInterpolation::bind(const std::vector<GuideStrand>& guides, const Tri
   if (s && !guides.empty())
   {
     std::vector<std::pair<double, int>> found;
+    std::vector<int> scratch;
     for (std::size_t t = 0; t < scalp.triangles.size(); ++t)
     {
       const auto& tri = scalp.triangles[t];
       const Eigen::Vector3d a = scalp.points[tri[0]], b = scalp.points[tri[1]],
                             c = scalp.points[tri[2]];
-      set.grid->nearest((a + b + c) / 3, 1, found);
+      nearestGuides(set.grid, set.roots, (a + b + c) / 3, 1, scratch, found);
       region[t] = found[0].first <= 1.5 * set.spacing &&
                   (ghost.empty() || !ghost[std::size_t(found[0].second)]);
       area += region[t] ? 0.5 * (b - a).cross(c - a).norm() : 0.0;
@@ -313,8 +252,9 @@ Status HairInterpolation::bindRoots(const std::vector<GuideStrand>& guides, Guid
   const std::vector<Eigen::Vector3d>& roots = set.roots;
   const std::vector<Eigen::Matrix3d>& frames = set.frames;
   const double spacing = set.spacing;
-  const RootGrid& grid = *set.grid;
+  const UniformGrid& grid = set.grid;
   std::vector<std::pair<double, int>> found;
+  std::vector<int> scratch;
   std::vector<Binding> bound(rendered.size());
   std::mt19937_64 rng(options.seed ^ 0x9e3779b97f4a7c15ull);
   std::uniform_real_distribution<double> U(0, 1);
@@ -324,7 +264,7 @@ Status HairInterpolation::bindRoots(const std::vector<GuideStrand>& guides, Guid
     Binding& b = bound[r];
     b.root = rendered[r];
     b.length = 1 - options.variation * U(rng);
-    grid.nearest(b.root, k + 1, found);
+    nearestGuides(grid, roots, b.root, k + 1, scratch, found);
     b.count = std::min<int>(k, static_cast<int>(found.size()));
     // Modified Shepard weights (Franke and Nielson 1980): ((R − d)₊ / (R d))², R the
     // distance to the next guide beyond those used, so that a weight reaches 0 before its

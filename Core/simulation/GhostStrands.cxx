@@ -1,5 +1,7 @@
 #include "simulation/GhostStrands.h"
 
+#include "geometry/UniformGrid.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -12,45 +14,6 @@ namespace hair
 
 namespace
 {
-/// Points hashed on a uniform grid of cells of side `cell`.
-struct PointGrid
-{
-  double Cell;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> Cells;
-
-  static std::int64_t key(std::int64_t i, std::int64_t j, std::int64_t k)
-  {
-    return (i & 0x1fffff) | ((j & 0x1fffff) << 21) | ((k & 0x1fffff) << 42);
-  }
-  Eigen::Array3i cellOf(const Eigen::Vector3d& p) const
-  {
-    return (p.array() / Cell).floor().cast<int>();
-  }
-  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell) : Cell(cell)
-  {
-    for (std::size_t i = 0; i < points.size(); ++i)
-    {
-      const Eigen::Array3i c = cellOf(points[i]);
-      Cells[key(c.x(), c.y(), c.z())].push_back(i);
-    }
-  }
-  /// Calls f(i) for every point in the cells around p (those within one cell of it).
-  template <typename F>
-  void around(const Eigen::Vector3d& p, F f) const
-  {
-    const Eigen::Array3i c = cellOf(p);
-    for (int i = -1; i <= 1; ++i)
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k)
-        {
-          const auto it = Cells.find(key(c.x() + i, c.y() + j, c.z() + k));
-          if (it != Cells.end())
-            for (std::size_t n : it->second)
-              f(n);
-        }
-  }
-};
-
 void append(std::vector<char>& out, const double* values, std::size_t count)
 {
   const std::size_t at = out.size();
@@ -68,8 +31,8 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& roots)
   {
     return 0;
   }
-  // A grid of cells about the size of the mean spacing on the roots' box, searched outwards
-  // ring by ring until a neighbour is found and the ring is beyond it.
+  // A grid of cells about the size of the mean spacing on the roots' box: each root's
+  // nearest other is the first of its two nearest that is not itself.
   Eigen::Vector3d lo = roots[0], hi = roots[0];
   for (const Eigen::Vector3d& r : roots)
   {
@@ -78,29 +41,20 @@ double typicalSpacing(const std::vector<Eigen::Vector3d>& roots)
   }
   const double extent = std::max((hi - lo).maxCoeff(), 1e-9);
   const double cell = std::max(extent / std::sqrt(double(roots.size())), extent * 1e-6);
-  const PointGrid grid(roots, cell);
+  UniformGrid grid;
+  grid.build(roots, cell);
   std::vector<double> nearest(roots.size());
+  std::vector<int> found;
   for (std::size_t i = 0; i < roots.size(); ++i)
   {
-    double best = INFINITY;
-    for (int ring = 1; ring < 1 << 20; ring *= 2)
-    {
-      const Eigen::Array3i c = grid.cellOf(roots[i]);
-      for (int a = -ring; a <= ring; ++a)
-        for (int b = -ring; b <= ring; ++b)
-          for (int d = -ring; d <= ring; ++d)
-          {
-            const auto it = grid.Cells.find(PointGrid::key(c.x() + a, c.y() + b, c.z() + d));
-            if (it == grid.Cells.end())
-              continue;
-            for (std::size_t n : it->second)
-              if (n != i)
-                best = std::min(best, (roots[n] - roots[i]).norm());
-          }
-      if (best <= ring * cell)
+    grid.nearest(roots[i], 2, found);
+    nearest[i] = INFINITY;
+    for (int n : found)
+      if (n != int(i))
+      {
+        nearest[i] = (roots[n] - roots[i]).norm();
         break;
-    }
-    nearest[i] = best;
+      }
   }
   std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
   return nearest[nearest.size() / 2];
@@ -117,7 +71,8 @@ void GhostStrands::plan(const std::vector<Eigen::Vector3d>& roots, const std::ve
   {
     return;
   }
-  const PointGrid grid(roots, reach);
+  UniformGrid grid;
+  grid.build(roots, reach);
   std::map<int, std::set<std::int64_t>> send, receive;
   for (std::size_t k = 0; k < roots.size(); ++k)
   {
@@ -125,15 +80,15 @@ void GhostStrands::plan(const std::vector<Eigen::Vector3d>& roots, const std::ve
     {
       continue;
     }
-    grid.around(roots[k],
-                [&](std::size_t n)
-                {
-                  if (owner[n] != rank && (roots[n] - roots[k]).norm() <= reach)
-                  {
-                    receive[owner[n]].insert(std::int64_t(n));
-                    send[owner[n]].insert(std::int64_t(k));
-                  }
-                });
+    grid.forEachWithin(roots[k], reach,
+                       [&](int n)
+                       {
+                         if (owner[n] != rank)
+                         {
+                           receive[owner[n]].insert(std::int64_t(n));
+                           send[owner[n]].insert(std::int64_t(k));
+                         }
+                       });
   }
   for (const auto& [partner, strands] : receive)
   {
