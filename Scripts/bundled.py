@@ -1,8 +1,11 @@
 """The bundled body in a ParaView pipeline, shared by the demo scripts: the mesh, its
-collision tables as listed in Data/body_parts.txt, and a plain white render view."""
+collision tables as listed in Data/body_parts.txt, a plain white render view, the
+demo's view of a run, and a ParaView state that opens in the GUI as the demo's pictures look."""
 import os
 
-from paraview.simple import CreateView, LegacyVTKReader
+from paraview.simple import (AddCameraLink, ColorBy, CreateLayout, CreateView, GetAnimationScene,
+                             GetColorTransferFunction, GetScalarBar, LegacyVTKReader, OutputPort, SaveState,
+                             SetActiveView, Show)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -56,3 +59,71 @@ def white_view(position, focal_point, size=None):
     v.CameraViewUp = [0, 1, 0]
     v.CameraViewAngle = 30
     return v
+
+
+def hair_view(mesh, sim):
+    """The demo's view of a run: the body in skin colour, the guides coloured by speed on a
+    fixed 0–1 m/s scale with its bar, seen from behind the right shoulder (500 x 600)."""
+    view = white_view([0.75, 1.75, -0.75], [0.0, 1.45, 0.0], size=[500, 600])
+    skin = Show(mesh, view)
+    skin.DiffuseColor = [0.87, 0.76, 0.68]
+    hair = Show(sim, view)
+    hair.LineWidth = 2.0
+    ColorBy(hair, ("POINTS", "Speed"))
+    lut = GetColorTransferFunction("Speed")
+    lut.ApplyPreset("Inferno (matplotlib)", True)
+    # The same fixed range for every run (ColorBy may rescale to the data it sees first).
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, 1.0)
+    hair.SetScalarBarVisibility(view, True)
+    bar = GetScalarBar(lut, view)
+    bar.Title = "speed (m/s)"
+    bar.ComponentTitle = ""
+    bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
+    return view
+
+
+# Line colours of the energy chart, one per run (matplotlib's first two).
+CHART_COLORS = (["0.12", "0.47", "0.71"], ["0.84", "0.15", "0.16"])
+
+
+def save_state(path, runs, time):
+    """Save a ParaView state that opens in the GUI as the pvpython views look.
+
+    `runs`: (label, render view, Hair Simulation) for one or two runs. pvpython makes views
+    but puts them in no layout, and the GUI shows only the views of a layout: a state saved
+    as it was opened to an empty tab with nothing drawn (issue 36). Here the runs' views go
+    side by side on top of one layout, their cameras linked, and a line chart of their
+    kinetic energy (the simulation's Energy output) below; the animation scene steps through
+    the runs' frames ('Snap To TimeSteps': the GUI's default is 10 even steps over [0, 1],
+    between the frames) and the state opens at `time`."""
+    chart = CreateView("XYChartView")
+    chart.ChartTitle = "kinetic energy of the guides"
+    chart.LeftAxisTitle = "energy (J)"
+    chart.BottomAxisTitle = "time (s)"
+    for (label, _, sim), color in zip(runs, CHART_COLORS):
+        curve = Show(OutputPort(sim, 1), chart, "XYChartRepresentation")
+        curve.UseIndexForXAxis = 0
+        curve.XArrayName = "Time"
+        curve.SeriesVisibility = ["kinetic"]
+        curve.SeriesLabel = ["kinetic", f"{label}: kinetic"]
+        curve.SeriesColor = ["kinetic"] + color
+    views = [view for _, view, _ in runs]
+    layout = CreateLayout("Hair")
+    layout.SplitVertical(0, 0.62)          # cell 1 on top (the runs), cell 2 below (the chart)
+    if len(views) == 1:
+        layout.AssignView(1, views[0])
+    else:
+        layout.SplitHorizontal(1, 0.5)     # cells 3 and 4, left and right
+        layout.AssignView(3, views[0])
+        layout.AssignView(4, views[1])
+        AddCameraLink(views[0], views[1], "cameras of the runs")
+    layout.AssignView(2, chart)
+    layout.SetSize(1280, 900)
+    SetActiveView(views[0])
+    scene = GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.PlayMode = "Snap To TimeSteps"
+    scene.AnimationTime = time
+    SaveState(path)
+    return layout
