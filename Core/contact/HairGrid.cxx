@@ -82,14 +82,11 @@ void HairGrid::begin(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, doubl
 
 namespace
 {
-// x in units of the grid's quantum, rounded; clamped far inside int64 (a sum of a few
-// thousand never overflows; values this large are a blown-up strand, refused by its step).
-std::int64_t quantize(double x)
+// x (already in quanta, finite and far inside int64) to the nearest integer, halves away
+// from zero: the same on every machine and thread.
+inline std::int64_t nearest(double x)
 {
-  const double q = std::clamp(x * (1ll << 40), -1e15, 1e15); // NaN: clamp keeps it
-  if (!(q == q))
-    return 0;
-  return static_cast<std::int64_t>(q >= 0 ? q + 0.5 : q - 0.5);
+  return static_cast<std::int64_t>(x >= 0 ? x + 0.5 : x - 0.5);
 }
 } // namespace
 
@@ -166,7 +163,8 @@ void HairGrid::splat(const Strand& st, double perLength, int k0, int k1,
     const Eigen::Vector3d d = e - a;
     const double len = d.norm();
     const int pieces = std::max(1, static_cast<int>(std::ceil(len / Cell)));
-    const double volume = perLength * len / pieces; // volume fraction × cell³ / cell³
+    // In the nodes' fixed point: a volume fraction × cell³ / cell³, in quanta.
+    const double volume = perLength * len / pieces / Quantum;
     for (int m = 0; m < pieces; ++m)
     {
       const double t = (m + 0.5) / pieces;
@@ -175,18 +173,25 @@ void HairGrid::splat(const Strand& st, double perLength, int k0, int k1,
       Eigen::Array3d f;
       if (!locate(p, b, f) || b[2] + 1 < k0 || b[2] >= k1)
         continue;
-      const Eigen::Vector3d u = (1 - t) * st.v[j] + t * st.v[j + 1];
+      Eigen::Vector3d u = (1 - t) * st.v[j] + t * st.v[j + 1];
+      // φ v in quanta stays far inside int64 (|v| ≤ 1e4 m/s; a faster sample is a blown-up
+      // strand, which its step refuses).
+      if (!(u.allFinite() && u.cwiseAbs().maxCoeff() <= 1e4))
+        u = u.allFinite() ? Eigen::Vector3d(u.cwiseMax(-1e4).cwiseMin(1e4))
+                          : Eigen::Vector3d::Zero();
+      const double wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
+      const bool whole = b[2] >= k0 && b[2] + 1 < k1; // both layers this slab's
       for (int c = 0; c < 8; ++c)
       {
         const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
-        if (b[2] + dk < k0 || b[2] + dk >= k1)
+        if (!whole && (b[2] + dk < k0 || b[2] + dk >= k1))
           continue;
-        const double w = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
+        const double share = wx[di] * wy[dj] * wz[dk] * volume;
         Node& nd = touch(index(b[0] + di, b[1] + dj, b[2] + dk), touched);
-        const double share = w * volume;
-        nd.q[0] += quantize(share);
-        for (int a = 0; a < 3; ++a)
-          nd.q[1 + a] += quantize(share * u[a]);
+        nd.q[0] += nearest(share);
+        nd.q[1] += nearest(share * u[0]);
+        nd.q[2] += nearest(share * u[1]);
+        nd.q[3] += nearest(share * u[2]);
       }
     }
   }
