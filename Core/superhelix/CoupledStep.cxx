@@ -121,18 +121,24 @@ Status SuperHelix::compliance(const std::vector<int>& samples, StrandCompliance&
     out.freeVelocity[k] = Pending.free[samples[k]].velocity;
   }
   out.Y = Pending.h * out.Jt;
-  if (m > detail::UnblockedLuMax)
-    out.Y = Pending.largeLu.solve(out.Y);
-  else
-  {
-    // All columns at once: the interchanges, then the two triangular solves (blocked).
-    for (int c = 0; c < m; ++c)
-      if (Pending.pivots[c] != c)
-        out.Y.row(c).swap(out.Y.row(Pending.pivots[c]));
-    Pending.lu.triangularView<Eigen::UnitLower>().solveInPlace(out.Y);
-    Pending.lu.triangularView<Eigen::Upper>().solveInPlace(out.Y);
-  }
+  solvePending(out.Y);
   return Status::Ok();
+}
+
+void SuperHelix::solvePending(Eigen::MatrixXd& Y) const
+{
+  const int m = static_cast<int>(Q.size());
+  if (m > detail::UnblockedLuMax)
+  {
+    Y = Pending.largeLu.solve(Y);
+    return;
+  }
+  // The interchanges, then the two triangular solves (blocked).
+  for (int c = 0; c < m; ++c)
+    if (Pending.pivots[c] != c)
+      Y.row(c).swap(Y.row(Pending.pivots[c]));
+  Pending.lu.triangularView<Eigen::UnitLower>().solveInPlace(Y);
+  Pending.lu.triangularView<Eigen::Upper>().solveInPlace(Y);
 }
 
 void SuperHelix::materialPoints(const std::vector<double>& s, bool free,
@@ -217,16 +223,7 @@ Status SuperHelix::loadCompliance(const std::vector<std::array<double, 2>>& s,
       J.col(l).segment<3>(3 * at) += (own.F0 * hp.dg).transpose() * d;
     }
   Y = Pending.h * J;
-  if (m > detail::UnblockedLuMax)
-    Y = Pending.largeLu.solve(Y);
-  else
-  {
-    for (int c = 0; c < m; ++c)
-      if (Pending.pivots[c] != c)
-        Y.row(c).swap(Y.row(Pending.pivots[c]));
-    Pending.lu.triangularView<Eigen::UnitLower>().solveInPlace(Y);
-    Pending.lu.triangularView<Eigen::Upper>().solveInPlace(Y);
-  }
+  solvePending(Y);
   D.noalias() = J.transpose() * Y;
   return Status::Ok();
 }

@@ -373,6 +373,8 @@ private:
     std::vector<int> pivots;
     Eigen::PartialPivLU<Eigen::MatrixXd> largeLu; // Eigen's, past UnblockedLuMax
   } Pending;
+  // Y ← A⁻¹ Y with the pending step's kept factors, all columns at once.
+  void solvePending(Eigen::MatrixXd& Y) const;
 
   mutable std::vector<StrandSample> Samples;
   Eigen::VectorXd F;
