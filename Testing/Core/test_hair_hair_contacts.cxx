@@ -478,51 +478,20 @@ namespace
 // and the closest approach of the centrelines over `frames` frames.
 Status driveThrough(bool withContacts, double speed, int frames, long& passes, double& closest)
 {
-  HairParameters hair = HairParameters::roundStraight();
-  std::vector<SuperHelix> strands(2);
-  for (int i = 0; i < 2; ++i)
-  {
-    StrandSpec s = StrandSpec::uniform(0.2, 10, hair);
-    s.id = i;
-    s.gravity.setZero();
-    if (i == 0)
-      s.root = [speed](double t)
-      {
-        RootState r;
-        r.position = Eigen::Vector3d(-0.1025, 0.01 - speed * t, 0.1025);
-        r.velocity = Eigen::Vector3d(0, -speed, 0);
-        r.orientation = frameWithTangent({1, 0, 0});
-        return r;
-      };
-    else
-    {
-      RootState r;
-      r.orientation = frameWithTangent({0, 0, 1});
-      s.root = [r](double) { return r; };
-    }
-    if (Status st = strands[i].initialize(s); !st)
-      return st;
-  }
+  std::vector<SuperHelix> strands;
+  if (Status st = drivenPair(speed, -0.1025, 0.1025, strands); !st)
+    return st;
   HairHairContacts contacts;
   HairHairParameters p;
   p.thickness = 2.5e-3;
   if (Status st = contacts.setParameters(p); !st)
     return st;
-  passes = 0;
-  closest = std::numeric_limits<double>::infinity();
-  std::vector<std::vector<Eigen::Vector3d>> before = drawn(strands);
-  for (int f = 0; f < frames; ++f)
-  {
-    const Status st = withContacts ? stepStrandsWithContacts(strands, contacts, Dt, 1)
-                                   : stepStrands(strands, Dt, 1);
-    if (!st)
-      return st;
-    const std::vector<std::vector<Eigen::Vector3d>> after = drawn(strands);
-    passes += static_cast<long>(findPassThroughs(before, after, 2 * p.thickness).size());
-    closest = std::min(closest, centrelineDistance(strands[0], strands[1]));
-    before = after;
-  }
-  return Status::Ok();
+  return runPair(
+      strands, frames, 4, 2 * p.thickness,
+      [&](std::vector<SuperHelix>& s) {
+        return withContacts ? stepStrandsWithContacts(s, contacts, Dt, 1) : stepStrands(s, Dt, 1);
+      },
+      passes, closest);
 }
 } // namespace
 
