@@ -8,12 +8,14 @@ Hair Interpolation) and a screenshot of the window is left too (gui_rendered_hea
 Usage: gui_plugin_menu.py <HairDynamics.so> <output folder>
 """
 import os
-import select
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import start as start_xvfb, stop as stop_xvfb  # noqa: E402
 
 plugin, out = sys.argv[1], sys.argv[2]
 os.makedirs(out, exist_ok=True)
@@ -61,26 +63,7 @@ data = hair.GetClientSideObject().GetOutputDataObject(0)
 open({rendered!r}, "w").write(str(data.GetNumberOfLines()))
 """)
 
-# Xvfb picks a free display itself and writes its number to a pipe when it is ready to take
-# connections (-displayfd); it also reclaims lock files left by servers that died. Choosing the
-# number here from /tmp/.X*-lock ran out of numbers once killed servers had left 39 stale locks.
-read_end, write_end = os.pipe()
-xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "1400x900x24"],
-                        pass_fds=(write_end,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-os.close(write_end)
-number = b""
-ready, _, _ = select.select([read_end], [], [], 30)
-while ready:
-    chunk = os.read(read_end, 16)
-    number += chunk
-    if not chunk or number.endswith(b"\n"):
-        break
-    ready, _, _ = select.select([read_end], [], [], 30)
-os.close(read_end)
-if not number.strip().isdigit():
-    xvfb.kill()
-    sys.exit("Xvfb did not start within 30 s (it reported no display number)")
-display = ":" + number.strip().decode()
+xvfb, display = start_xvfb("1400x900x24")
 env = dict(os.environ, DISPLAY=display, PV_PLUGIN_PATH=os.path.dirname(os.path.abspath(plugin)))
 log = open(os.path.join(out, "paraview_gui.log"), "w")
 gui = subprocess.Popen(["paraview", "--dr", f"--script={check}"], env=env, stdout=log, stderr=log)
@@ -127,13 +110,7 @@ try:
 finally:
     gui.kill()
     gui.wait()
-    # SIGTERM, not SIGKILL: Xvfb then removes its /tmp/.X<n>-lock and socket.
-    xvfb.terminate()
-    try:
-        xvfb.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        xvfb.kill()
-        xvfb.wait()
+    stop_xvfb(xvfb)
     log.close()
 errors = [line for line in open(os.path.join(out, "paraview_gui.log")) if "HairDynamics" in line and "rror" in line]
 if errors:

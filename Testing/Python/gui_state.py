@@ -13,12 +13,14 @@ Usage: gui_state.py <HairDynamics.so> <output folder> [--write-baseline]
 """
 import json
 import os
-import select
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import start as start_xvfb, stop as stop_xvfb  # noqa: E402
 
 import numpy as np
 from PIL import Image
@@ -128,24 +130,8 @@ def settled_window(env, pid, path, limit):
         previous = current
 
 
-# Xvfb as in gui_plugin_menu.py: it picks a free display and reports it on a pipe when ready.
-read_end, write_end = os.pipe()
-xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write_end), "-screen", "0", "1280x1024x24"],
-                        pass_fds=(write_end,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-os.close(write_end)
-number = b""
-ready, _, _ = select.select([read_end], [], [], 30)
-while ready:
-    chunk = os.read(read_end, 16)
-    number += chunk
-    if not chunk or number.endswith(b"\n"):
-        break
-    ready, _, _ = select.select([read_end], [], [], 30)
-os.close(read_end)
-if not number.strip().isdigit():
-    xvfb.kill()
-    sys.exit("Xvfb did not start within 30 s (it reported no display number)")
-env = dict(os.environ, DISPLAY=":" + number.strip().decode(), PV_PLUGIN_PATH=os.path.dirname(plugin))
+xvfb, display = start_xvfb("1280x1024x24")
+env = dict(os.environ, DISPLAY=display, PV_PLUGIN_PATH=os.path.dirname(plugin))
 log = open(os.path.join(out, "paraview_gui_state.log"), "w")
 failures = []
 gui = None
@@ -179,13 +165,7 @@ finally:
     if gui is not None:
         gui.kill()
         gui.wait()
-    # SIGTERM, not SIGKILL: Xvfb then removes its /tmp/.X<n>-lock and socket.
-    xvfb.terminate()
-    try:
-        xvfb.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        xvfb.kill()
-        xvfb.wait()
+    stop_xvfb(xvfb)
     log.close()
 
 if os.path.exists(result):
