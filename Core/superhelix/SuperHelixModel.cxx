@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -434,12 +433,9 @@ Status SuperHelixModel::coupledStep(double t0, double h)
     HairHairDissipated += HairHair.stats().dissipated;
     return Status::Ok();
   }
+  // The grid and the near field (the grid alone is stepped in advanceTo, each strand on its
+  // own sub-steps through it).
   buildGrid(h);
-  if (Options.hairHairSolver == HairHairSolver::Grid)
-  {
-    // The grid is the medium of the step: each strand steps on its own through it.
-    return stepStrands(Helices, h, Run.threads, Options.tolerance * h);
-  }
   // The roots' rigid motion over the step, end to start: pieces moving with the head are
   // boxed by their motion relative to it (NearFieldContacts::detect).
   const Eigen::Isometry3d carry =

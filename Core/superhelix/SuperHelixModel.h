@@ -150,7 +150,8 @@ private:
   {
     return Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Coupled;
   }
-  /// One step of h from t0 of every strand with the hair–hair interaction asked for.
+  /// One step of h from t0 of every strand with the pairs asked for: the coupled solve, or
+  /// the grid and the near field (the grid alone is stepped by advanceTo).
   Status coupledStep(double t0, double h);
   // Hair–hair contacts since t = 0: the work of their forces on the strands (included in
   // the strands' contact work) and what their damping and friction dissipated [J].
