@@ -106,10 +106,14 @@ HairGrid::Node& HairGrid::touch(std::int64_t n, std::vector<std::int64_t>& touch
 bool HairGrid::locate(const Eigen::Vector3d& x, Eigen::Array3i& base, Eigen::Array3d& f) const
 {
   const Eigen::Array3d g = (x - Origin).array() / Cell;
+  // In the grid (floor(g) + 1 < Dims), checked before the cast: a point far outside or not
+  // finite would not fit an int.
+  if (!g.allFinite() || (g < 0).any() || (g >= (Dims - 1).cast<double>()).any())
+    return false;
   const Eigen::Array3d fl = g.floor();
   base = fl.cast<int>();
   f = g - fl;
-  return (base >= 0).all() && (base + 1 < Dims).all() && g.allFinite();
+  return true;
 }
 
 void HairGrid::add(const std::vector<Strand>& strands, int threads)

@@ -185,6 +185,15 @@ TEST(HairGrid, TheContinuumOfALatticeOfStrandsAndItsDragOnAStrandCrossingIt)
   ContactResponse outside;
   g.respond({-1, 0, 0}, rhoS, a, outside);
   EXPECT_FALSE(outside.hasField());
+  // Nor far outside, nor at a point that is not one (no cast of it to a node).
+  for (const Eigen::Vector3d& far :
+       {Eigen::Vector3d(1e30, 0, 0), Eigen::Vector3d(std::nan(""), 0, 0)})
+  {
+    ContactResponse none;
+    g.respond(far, rhoS, a, none);
+    EXPECT_FALSE(none.hasField());
+    EXPECT_EQ(g.fraction(far), 0);
+  }
 }
 
 TEST(HairGrid, PackedHairIsPushedBackToItsRestFractionWithinTheStep)
