@@ -22,8 +22,8 @@ PACKAGES=(
   clang libclang-rt-14-dev libomp-14-dev
   # runtime of tests, demo and studies
   python3-numpy python3-matplotlib python3-h5py python3-mpi4py xvfb xauth mpi-default-bin
-  # the GUI test: drives ParaView's menu and takes a screenshot
-  xdotool imagemagick
+  # the GUI tests: drive ParaView's menu, take screenshots, compare one with its baseline
+  xdotool imagemagick python3-pil
   # the bundled body's source (Data/make_body.sh regenerates Data/ from it)
   assimp-utils assimp-testmodels
 )
