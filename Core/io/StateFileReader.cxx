@@ -758,7 +758,8 @@ std::vector<std::int64_t> StateFileReader::pieceStrands(int piece, int pieces) c
   const auto roots = P->Header.strandVectors.find("rest_root");
   if (roots != P->Header.strandVectors.end())
   {
-    const std::vector<int> part = bisect(roots->second, std::vector<double>(strands, 1.0), pieces);
+    const std::vector<int> part =
+        shareAlongCurve(roots->second, std::vector<double>(strands, 1.0), pieces);
     for (std::size_t k = 0; k < strands; ++k)
     {
       if (part[k] == piece)

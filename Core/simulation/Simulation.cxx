@@ -221,7 +221,7 @@ std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const Stra
     roots.push_back(g.root);
     costs.push_back(model.stepCost(g));
   }
-  return bisect(roots, costs, ranks);
+  return shareAlongCurve(roots, costs, ranks);
 }
 
 namespace

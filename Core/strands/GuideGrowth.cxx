@@ -1,5 +1,7 @@
 #include "strands/GuideGrowth.h"
 
+#include "common/Partition.h"
+
 #include <sstream>
 
 #include <cmath>
@@ -45,13 +47,23 @@ Status growGuides(const std::vector<Root>& roots, const GrowthOptions& options,
     return s;
   }
   const Eigen::Vector3d comb = options.combDirection.normalized();
+  // Numbered along the roots' Hilbert curve, the curve the strands are shared among MPI
+  // ranks by (common/Partition.h): each rank's share is a range of numbers, written as one
+  // run of rows of the state file.
+  std::vector<Eigen::Vector3d> positions;
+  for (const Root& r : roots)
+  {
+    positions.push_back(r.position);
+  }
+  const std::vector<std::size_t> order = spaceFillingOrder(positions);
   std::vector<GuideStrand> out(roots.size());
   for (std::size_t k = 0; k < roots.size(); ++k)
   {
+    const std::size_t from = order[k];
     GuideStrand& g = out[k];
-    g.root = roots[k].position;
-    g.normal = roots[k].normal;
-    g.growth = roots[k].normal;
+    g.root = roots[from].position;
+    g.normal = roots[from].normal;
+    g.growth = roots[from].normal;
     if (options.combed)
     {
       const Eigen::Vector3d blend = (1 - options.combWeight) * g.normal + options.combWeight * comb;
@@ -63,7 +75,9 @@ Status growGuides(const std::vector<Root>& roots, const GrowthOptions& options,
     g.length = options.length;
     g.elements = options.elements;
     g.hair = options.hair;
-    g.seed = options.seed;
+    // The model varies strand k's natural curvature by the seed seed + k: the variation
+    // stays that of the root's place among the roots given, whatever its number.
+    g.seed = options.seed + static_cast<std::uint32_t>(from) - static_cast<std::uint32_t>(k);
   }
   guides = std::move(out);
   return Status::Ok();

@@ -33,8 +33,11 @@ struct GrowthOptions
   Status validate() const;
 };
 
-/// One guide per root (its normal unit and out of the surface). The growth direction is
-/// the blend of the normal and the comb direction, or the normal where the blend vanishes.
+/// One guide per root (its normal unit and out of the surface), numbered along the roots'
+/// Hilbert curve (common/Partition.h: so that an MPI rank's share is a range of numbers),
+/// each with the curvature variation of its root's place among `roots`. The growth
+/// direction is the blend of the normal and the comb direction, or the normal where the
+/// blend vanishes.
 Status growGuides(const std::vector<Root>& roots, const GrowthOptions& options,
                   std::vector<GuideStrand>& guides);
 

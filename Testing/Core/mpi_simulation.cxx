@@ -275,7 +275,7 @@ SimulationOptions optionsFor(ModelType model)
 }
 } // namespace
 
-TEST(Partition, BisectionBalancesWeightsInCompactParts)
+TEST(Partition, RangesOfTheCurveBalanceWeightsInCompactParts)
 {
   // A 20 × 10 grid of points, weight 1 on the left half and 3 on the right (400 in all):
   // 3 parts.
@@ -289,41 +289,88 @@ TEST(Partition, BisectionBalancesWeightsInCompactParts)
       weights.push_back(i < 10 ? 1.0 : 3.0);
     }
   }
-  const std::vector<int> part = bisect(points, weights, 3);
+  const std::vector<int> part = shareAlongCurve(points, weights, 3);
   std::vector<double> load(3, 0);
-  std::vector<Eigen::Vector3d> lo(3, Eigen::Vector3d::Constant(1e9)), hi(3, -lo[0]);
   for (std::size_t k = 0; k < points.size(); ++k)
   {
     load[part[k]] += weights[k];
-    lo[part[k]] = lo[part[k]].cwiseMin(points[k]);
-    hi[part[k]] = hi[part[k]].cwiseMax(points[k]);
   }
-  // Each part gets its share (400 / 3) to within one point's weight per level of cuts (2).
+  // Each part gets its share (400 / 3) to within one point's weight (3).
   for (double l : load)
   {
-    EXPECT_NEAR(l, 400.0 / 3, 2 * 3.0);
+    EXPECT_NEAR(l, 400.0 / 3, 3.0);
   }
-  // Compact: the parts' boxes meet at most on a plane (each cut is a plane; points on it
-  // may go either way).
-  for (int a = 0; a < 3; ++a)
+  // Compact: grid neighbours in different parts. Two straight cuts across the 10-point side
+  // (what coordinate bisection gives) part 20 pairs; a range of a Hilbert curve is a blocky
+  // region, its boundary a few times that: at most 40 here. (Three ranges of a row-by-row
+  // scan would part 60, of a random order about 250 of the 370 pairs.)
+  int parted = 0;
+  for (int i = 0; i < 20; ++i)
   {
-    for (int b = a + 1; b < 3; ++b)
+    for (int j = 0; j < 10; ++j)
     {
-      const bool apart =
-          (hi[a].array() <= lo[b].array()).any() || (hi[b].array() <= lo[a].array()).any();
-      EXPECT_TRUE(apart) << "parts " << a << " and " << b;
+      const int k = 10 * i + j;
+      parted += (i + 1 < 20 && part[k] != part[k + 10]) + (j + 1 < 10 && part[k] != part[k + 1]);
     }
   }
-  EXPECT_EQ(part, bisect(points, weights, 3)); // deterministic
+  EXPECT_LE(parted, 40);
+  RecordProperty("neighbour_pairs_parted", std::to_string(parted));
+  EXPECT_EQ(part, shareAlongCurve(points, weights, 3)); // deterministic
+  // Along the curve the parts never decrease: points numbered in the curve's order (as grown
+  // guides are) get parts of consecutive numbers.
+  const std::vector<std::size_t> order = spaceFillingOrder(points);
+  std::vector<Eigen::Vector3d> sorted;
+  std::vector<double> sortedWeights;
+  for (std::size_t k : order)
+  {
+    sorted.push_back(points[k]);
+    sortedWeights.push_back(weights[k]);
+  }
+  const std::vector<int> ranges = shareAlongCurve(sorted, sortedWeights, 3);
+  EXPECT_TRUE(std::is_sorted(ranges.begin(), ranges.end()));
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    EXPECT_EQ(ranges[i], part[order[i]]);
+  }
+}
+
+TEST(Partition, TheCurveVisitsQuadrantsInTurn)
+{
+  // A Hilbert curve through a square visits its quadrants one after the other: four equal
+  // ranges of a 16 × 16 grid are its four 8 × 8 quadrants (the grid's cells do not fall on
+  // the curve's own cells exactly, so a quadrant's box may grow by a row: at most 9 × 9).
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 16; ++i)
+  {
+    for (int j = 0; j < 16; ++j)
+    {
+      points.emplace_back(i, j, 0);
+    }
+  }
+  const std::vector<int> part = shareAlongCurve(points, std::vector<double>(256, 1.0), 4);
+  std::vector<Eigen::Vector3d> lo(4, Eigen::Vector3d::Constant(1e9)), hi(4, -lo[0]);
+  std::vector<int> count(4, 0);
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    lo[part[k]] = lo[part[k]].cwiseMin(points[k]);
+    hi[part[k]] = hi[part[k]].cwiseMax(points[k]);
+    ++count[part[k]];
+  }
+  for (int p = 0; p < 4; ++p)
+  {
+    EXPECT_EQ(count[p], 64);
+    EXPECT_LE(hi[p].x() - lo[p].x(), 8.0) << "part " << p;
+    EXPECT_LE(hi[p].y() - lo[p].y(), 8.0) << "part " << p;
+  }
 }
 
 TEST(Partition, FewerPointsThanPartsLeavesPartsEmpty)
 {
   const std::vector<Eigen::Vector3d> one{Eigen::Vector3d(1, 2, 3)};
-  EXPECT_EQ(bisect(one, {1.0}, 4), std::vector<int>{3});
+  EXPECT_EQ(shareAlongCurve(one, {1.0}, 4), std::vector<int>{3});
   const std::vector<Eigen::Vector3d> three{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                                            Eigen::Vector3d(2, 0, 0)};
-  const std::vector<int> part = bisect(three, {1.0, 1.0, 1.0}, 4);
+  const std::vector<int> part = shareAlongCurve(three, {1.0, 1.0, 1.0}, 4);
   EXPECT_EQ(std::set<int>(part.begin(), part.end()).size(), 3u);
 }
 
@@ -830,7 +877,7 @@ TEST(GhostStrands, GhostsAreTheOtherRanksStrandsWithinReach)
   EXPECT_EQ(spacing, nearest[nearest.size() / 2]);
 
   const std::vector<int> owner =
-      bisect(roots, std::vector<double>(roots.size(), 1.0), world.size());
+      shareAlongCurve(roots, std::vector<double>(roots.size(), 1.0), world.size());
   GhostStrands ghosts;
   ghosts.plan(roots, owner, world.rank(), 3 * spacing);
   std::vector<std::int64_t> expected;
