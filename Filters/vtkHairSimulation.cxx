@@ -42,12 +42,31 @@ struct vtkHairSimulation::Internals
   hair::Simulation Sim;
   bool Initialized = false;
   vtkMTimeType BuiltAt = 0; ///< max MTime of this filter and its inputs when Sim was built
-  std::string Written;      ///< the state file this filter created last (its own to replace)
+  /// The filter's MTime set by the last change of Points Per Element, and its MTime before
+  /// it: a change of drawing only does not build the run again.
+  vtkMTimeType DrawnAt = 0, BeforeDrawn = 0;
+  std::string Written; ///< the state file this filter created last (its own to replace)
   /// Under MPI, the ranks of ParaView's controller (made at the first request, which every
   /// rank makes); this process alone otherwise.
   hair::Ranks Ranks;
   bool HaveRanks = false;
 };
+
+void vtkHairSimulation::SetPointsPerElement(int points)
+{
+  if (points == this->PointsPerElement)
+  {
+    return;
+  }
+  // Only how a frame is drawn: the change is remembered so that the run is not built again
+  // for it (RequestData looks past it).
+  Internals& in = *this->Internal;
+  const vtkMTimeType before = this->GetMTime();
+  in.BeforeDrawn = before == in.DrawnAt ? in.BeforeDrawn : before;
+  this->PointsPerElement = points;
+  this->Modified();
+  in.DrawnAt = this->GetMTime();
+}
 
 vtkHairSimulation::vtkHairSimulation()
     : QuadratureTolerance(hair::QuadratureChooser::defaultTolerance()),
@@ -220,6 +239,10 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
   // (Re)build the run when a property or an input changed since it was built (on every rank
   // if on any: the ranks step together).
   vtkMTimeType mtime = this->GetMTime();
+  if (mtime == in.DrawnAt)
+  {
+    mtime = in.BeforeDrawn; // nothing but Points Per Element changed since
+  }
   mtime = std::max(mtime, strandsIn ? strandsIn->GetMTime() : 0);
   for (int i = 0; i < inputVector[1]->GetNumberOfInformationObjects(); ++i)
   {
@@ -272,10 +295,12 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     vtkErrorMacro(<< "Hair Simulation: " << s.message());
     return 0;
   }
-  // The frame as stored (this rank's piece under MPI, StrandId the strands' numbers in the
-  // run), with the material frame at every point (simulation/GuideDrawing.h).
+  // The frame drawn at Points Per Element from its state (this rank's piece under MPI,
+  // StrandId the strands' numbers in the run), with the material frame at every point
+  // (simulation/GuideDrawing.h).
   hair::GuideDrawing drawing;
-  if (hair::Status s = hair::drawGuides(in.Sim.piece(), frame, 0, this->NumberOfThreads, drawing);
+  if (hair::Status s = hair::drawGuides(in.Sim.piece(), frame, this->PointsPerElement,
+                                        this->NumberOfThreads, drawing);
       !s)
   {
     vtkErrorMacro(<< "Hair Simulation: " << s.message());
@@ -298,7 +323,9 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
     hair::StateFrame ghostFrame;
     hair::GuideDrawing ghosts;
     hair::Status s = in.Sim.ghostFrame(index, ghostLevels, ghostHeader, ghostFrame);
-    s = s ? hair::drawGuides(ghostHeader, ghostFrame, 0, this->NumberOfThreads, ghosts) : s;
+    s = s ? hair::drawGuides(ghostHeader, ghostFrame, this->PointsPerElement, this->NumberOfThreads,
+                             ghosts)
+          : s;
     if (!s)
     {
       vtkErrorMacro(<< "Hair Simulation: the ghost strands: " << s.message());
@@ -373,7 +400,6 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.threads = this->NumberOfThreads;
   o.ranks = in.Ranks;
   hair::SuperHelixOptions& sh = o.superHelix;
-  sh.pointsPerElement = this->PointsPerElement;
   sh.quadratureTolerance = this->QuadratureTolerance;
   sh.integrator = this->Integrator == SECOND_ORDER ? hair::Integrator::Midpoint
                                                    : hair::Integrator::SemiImplicit;

@@ -71,10 +71,10 @@ public:
   vtkGetVector3Macro(MotionAxis, double);
   vtkSetVector3Macro(MotionPivot, double);
   vtkGetVector3Macro(MotionPivot, double);
-  /// Super-Helix points per element in the frames (output 0, the state file, the
-  /// penetration measure), drawn exactly on the helices; the projective model's points are
-  /// its segments' nodes whatever this says.
-  vtkSetMacro(PointsPerElement, int);
+  /// Super-Helix points per element drawn in output 0, exactly on the helices from the
+  /// frame's state; the projective model's points are its segments' nodes whatever this
+  /// says. Changing it draws the frame again: the run goes on.
+  void SetPointsPerElement(int points);
   vtkGetMacro(PointsPerElement, int);
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);

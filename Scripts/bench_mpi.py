@@ -4,7 +4,7 @@ write to the shared state file included.
 
   /usr/bin/python3 Scripts/bench_mpi.py core build/Testing/bench_mpi_simulation [options]
   /usr/bin/python3 Scripts/bench_mpi.py pvbatch build/.../HairDynamics.so [options]
-  options: [--guides 2000] [--frames 20] [--rounds 3] [--ranks 1 2] [--threads 1] [--points 16]
+  options: [--guides 2000] [--frames 20] [--rounds 3] [--ranks 1 2] [--threads 1] [--points 16 (pvbatch: drawn per element)]
            [--out DIR] [--no-file] [--hair wavy|quadrants]
 
 `core` runs Testing/Benchmarks/bench_mpi_simulation (Core's hair::Simulation alone) and
@@ -54,9 +54,8 @@ for r in range(args.rounds):
             cmd += [args.target]
         else:
             cmd += [shutil.which("pvbatch"), "--symmetric", os.path.join(HERE, "mpi_frames.py"), args.target]
-        cmd += [str(args.guides), str(args.frames), state, str(args.threads), str(args.points)]
-        if args.kind == "core":
-            cmd += [args.hair]
+        cmd += [str(args.guides), str(args.frames), state, str(args.threads)]
+        cmd += [args.hair] if args.kind == "core" else [str(args.points)]
         done = subprocess.run(cmd, capture_output=True, text=True)
         line = [x for x in done.stdout.splitlines() if x.startswith("{")]
         if done.returncode != 0 or not line:
@@ -71,7 +70,8 @@ for r in range(args.rounds):
 best = {n: min(results[n], key=lambda x: x["median_ms"]) for n in args.ranks}
 base = best[args.ranks[0]]
 print()
-print(f"{args.kind}: {args.guides} {args.hair if args.kind == 'core' else 'wavy'} guides, N = 10, {args.points} points per element, body contacts, "
+print(f"{args.kind}: {args.guides} {args.hair if args.kind == 'core' else 'wavy'} guides, N = 10, "
+      f"{'frames of states (format version 3)' if args.kind == 'core' else str(args.points) + ' points per element drawn'}, body contacts, "
       f"{args.threads} thread(s) per rank, {len(base['wall'])} frames timed, {args.rounds} rounds alternated, "
       f"state file: {'none' if args.no_file else 'yes'}")
 print()

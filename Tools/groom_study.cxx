@@ -77,9 +77,17 @@ int fail(const std::string& message, int code)
   return code;
 }
 
-/// The frame's strands as curves.
-Curves curvesOf(const StateHeader& h, const StateFrame& f)
+/// Frame `i` of the run drawn at Hair Simulation's default 16 points per element, as curves.
+Curves curvesOf(const Simulation& sim, int i)
 {
+  GuideDrawing drawn;
+  if (Status s = sim.drawFrame(i, 16, drawn); !s)
+  {
+    std::cerr << "groom_study: " << s.message() << "\n";
+    std::exit(1);
+  }
+  const StateHeader& h = drawn.header;
+  const StateFrame& f = drawn.frame;
   Curves c;
   for (std::size_t k = 0; k < h.numberOfStrands(); ++k)
   {
@@ -131,7 +139,7 @@ Status simulate(const std::vector<GuideStrand>& guides, const Scene& scene,
   run.worst.assign(guides.size(), 0.0);
   for (int i = from; i < frames; ++i)
   {
-    const Curves now = curvesOf(sim.header(), sim.frame(i));
+    const Curves now = curvesOf(sim, i);
     const std::vector<double> d = distances(groom, now);
     for (std::size_t k = 0; k < d.size(); ++k)
     {
@@ -288,7 +296,6 @@ int main(int argc, char** argv)
       SimulationOptions o;
       o.model = modelName == "projective" ? ModelType::Projective : ModelType::SuperHelix;
       o.threads = threads;
-      o.superHelix.pointsPerElement = 16; // Hair Simulation's default
       // Each strand balanced on its own, as the sag-free rest shape is (no hair–hair term in
       // the balance): the grid's volume would push a groom packed above its rest fraction.
       o.superHelix.hairHairEnabled = false;

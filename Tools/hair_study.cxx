@@ -1296,13 +1296,21 @@ int integrator(const Arguments& args)
 // end.
 
 /// The guides' drawn points, strand by strand, from a frame (points per the header's offsets).
-std::vector<std::vector<Eigen::Vector3d>> polylines(const StateHeader& header,
-                                                    const StateFrame& frame)
+/// Frame `f` of the run drawn at 8 points per element: a curled element is half a turn,
+/// and coarser chords miss crossings of the curve.
+std::vector<std::vector<Eigen::Vector3d>> polylines(const Simulation& sim, int f)
 {
+  GuideDrawing drawn;
+  if (Status s = sim.drawFrame(f, 8, drawn); !s)
+  {
+    std::cerr << "hair_study: " << s.message() << "\n";
+    std::exit(1);
+  }
+  const StateHeader& header = drawn.header;
   std::vector<std::vector<Eigen::Vector3d>> out(header.numberOfStrands());
   for (size_t k = 0; k < out.size(); ++k)
-    out[k].assign(frame.positions.begin() + header.offsets[k],
-                  frame.positions.begin() + header.offsets[k + 1]);
+    out[k].assign(drawn.frame.positions.begin() + header.offsets[k],
+                  drawn.frame.positions.begin() + header.offsets[k + 1]);
   return out;
 }
 
@@ -1434,9 +1442,6 @@ int hairhair(const Arguments& args)
     o.superHelix.hairHairSolver = solvers.at(solverName);
     o.superHelix.hairGrid = grid;
     o.superHelix.nearField = near;
-    // Pass-throughs are counted on the strands as drawn at 8 points per element: a curled
-    // element is half a turn, and coarser chords miss crossings of the curve.
-    o.superHelix.pointsPerElement = 8;
     Simulation sim;
     if (s = sim.initialize(guides, demoScene(body), o); !s)
     {
@@ -1476,8 +1481,7 @@ int hairhair(const Arguments& args)
         hhStats.rounds = static_cast<int>(n.flipped);
         hhStats.maxPenetration = std::max(0.0, n.deficit);
       }
-      const auto found = findPassThroughs(polylines(sim.header(), sim.frame(f - 1)),
-                                          polylines(sim.header(), sim.frame(f)), R);
+      const auto found = findPassThroughs(polylines(sim, f - 1), polylines(sim, f), R);
       const long passes = static_cast<long>(found.size());
       row(sim.frame(f).time, passes, sim.contacts()[f], sim.maxDepth()[f],
           withContacts ? &hhStats : nullptr, seconds);
@@ -1486,7 +1490,7 @@ int hairhair(const Arguments& args)
     // Where the hair ends and how packed it is: the guides' mean tip height at the end, and
     // the volume fraction at their samples as the grid last saw it (with the grid on).
     double tip = 0;
-    const auto lines = polylines(sim.header(), sim.frame(frames));
+    const auto lines = polylines(sim, frames);
     for (const auto& l : lines)
       tip += l.back().y() / static_cast<double>(lines.size());
     std::vector<double> fractions;

@@ -295,7 +295,8 @@ bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, co
          (!write || H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
 }
 
-Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape)
+Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape,
+                     hid_t type)
 {
   std::vector<hsize_t> dims{0}, maxDims{H5S_UNLIMITED}, chunk{1};
   for (hsize_t d : frameShape)
@@ -311,11 +312,10 @@ Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>&
   Handle space(H5Screate_simple(int(dims.size()), dims.data(), maxDims.data()));
   Handle props(H5Pcreate(H5P_DATASET_CREATE));
   H5Pset_chunk(props.get(), int(chunk.size()), chunk.data());
-  return Handle(H5Dcreate2(parent, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, props.get(),
-                           H5P_DEFAULT));
+  return Handle(H5Dcreate2(parent, name, type, space.get(), H5P_DEFAULT, props.get(), H5P_DEFAULT));
 }
 
-bool appendSlab(hid_t dataset, hsize_t t, const double* data)
+bool appendSlab(hid_t dataset, hsize_t t, const void* data, hid_t memType)
 {
   Handle space(H5Dget_space(dataset));
   const int rank = H5Sget_simple_extent_ndims(space.get());
@@ -333,8 +333,7 @@ bool appendSlab(hid_t dataset, hsize_t t, const double* data)
   H5Sselect_hyperslab(fileSpace.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                       nullptr);
   Handle memSpace(H5Screate_simple(rank, count.data(), nullptr));
-  return H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memSpace.get(), fileSpace.get(), H5P_DEFAULT, data) >=
-         0;
+  return H5Dwrite(dataset, memType, memSpace.get(), fileSpace.get(), H5P_DEFAULT, data) >= 0;
 }
 
 bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data)
@@ -364,7 +363,7 @@ bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data)
 }
 
 Handle createFixed(hid_t parent, const char* name, hsize_t frames,
-                   const std::vector<hsize_t>& frameShape, bool fill)
+                   const std::vector<hsize_t>& frameShape, bool fill, hid_t type)
 {
   std::vector<hsize_t> dims{frames};
   dims.insert(dims.end(), frameShape.begin(), frameShape.end());
@@ -384,8 +383,7 @@ Handle createFixed(hid_t parent, const char* name, hsize_t frames,
   {
     H5Pset_fill_time(props.get(), H5D_FILL_TIME_NEVER);
   }
-  return Handle(H5Dcreate2(parent, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT, props.get(),
-                           H5P_DEFAULT));
+  return Handle(H5Dcreate2(parent, name, type, space.get(), H5P_DEFAULT, props.get(), H5P_DEFAULT));
 }
 
 bool RowSelection::build(hid_t dataset, const Runs& runs)

@@ -95,24 +95,27 @@ bool writeArray(hid_t parent, const char* name, hid_t type, hsize_t count, const
 bool writeRows(hid_t parent, const char* name, hsize_t rows, hsize_t columns, const double* data,
                bool write = true);
 
-/// A dataset of doubles that grows by one frame along its first dimension, each frame
-/// shaped `frameShape` (empty: one scalar per frame).
-Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape);
+/// A dataset of `type` (doubles unless said) that grows by one frame along its first
+/// dimension, each frame shaped `frameShape` (empty: one scalar per frame).
+Handle createGrowing(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape,
+                     hid_t type = H5T_NATIVE_DOUBLE);
 
-/// Writes one frame's slab at index t, growing the dataset to t + 1 frames first.
-bool appendSlab(hid_t dataset, hsize_t t, const double* data);
+/// Writes one frame's slab at index t from `data` of `memType`, growing the dataset to t + 1
+/// frames first.
+bool appendSlab(hid_t dataset, hsize_t t, const void* data, hid_t memType = H5T_NATIVE_DOUBLE);
 
 /// Reads frame t of a dataset of frames (all but the first dimension, flattened).
 bool readSlab(hid_t dataset, hsize_t t, std::vector<double>& data);
 
-/// A dataset of doubles with room for `frames` frames from the start, each shaped
-/// `frameShape` (empty: one scalar per frame), stored contiguously and allocated when it is
+/// A dataset of `type` (doubles unless said) with room for `frames` frames from the start, each
+/// shaped `frameShape` (empty: one scalar per frame), stored contiguously and allocated when it is
 /// created: writing a frame then writes its raw data only, never the file's structure
 /// (what the state file written by several ranks relies on, docs/state-file.md). `fill`:
 /// the file holds NaN where no frame was written (set for small datasets; writing it costs
 /// the whole dataset once); else whatever the disk had (zeros on a new file).
 Handle createFixed(hid_t parent, const char* name, hsize_t frames,
-                   const std::vector<hsize_t>& frameShape, bool fill);
+                   const std::vector<hsize_t>& frameShape, bool fill,
+                   hid_t type = H5T_NATIVE_DOUBLE);
 
 /// Runs of consecutive rows of a dataset's second dimension: (first row, row count).
 using Runs = std::vector<std::pair<hsize_t, hsize_t>>;

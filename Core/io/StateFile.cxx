@@ -3,6 +3,8 @@
 // names in StateFormat.h.
 #include "io/StateFile.h"
 
+#include "io/StateFormat.h"
+
 #include <algorithm>
 #include <functional>
 
@@ -12,6 +14,75 @@ namespace hair
 const char* const RequiredEnergyTerms[5] = {"kinetic", "elastic", "gravitational", "dissipated",
                                             "external_work"};
 
+namespace
+{
+double* flat(std::vector<Eigen::Vector3d>& v)
+{
+  return v.empty() ? nullptr : v.front().data();
+}
+bool always(const StateHeader&)
+{
+  return true;
+}
+bool withCoordinates(const StateHeader& h)
+{
+  return h.coordinatesPerStrand > 0;
+}
+bool withRoots(const StateHeader& h)
+{
+  return h.rootFrames;
+}
+} // namespace
+
+const std::vector<FrameField>& frameFields()
+{
+  namespace sf = stateformat;
+  using R = FrameField::Rows;
+  static const std::vector<FrameField> fields{
+      {sf::Positions, "the position of point", R::Point, 3, "m",
+       "StrandModel::writeFrame (the model's nodes)",
+       [](StateFrame& f) { return flat(f.positions); },
+       [](const StateFrame& f) { return 3 * f.positions.size(); },
+       [](StateFrame& f, std::size_t n) { f.positions.resize(n / 3); }, always},
+      {sf::Velocities, "the velocity of point", R::Point, 3, "m/s", "StrandModel::writeFrame",
+       [](StateFrame& f) { return flat(f.velocities); },
+       [](const StateFrame& f) { return 3 * f.velocities.size(); },
+       [](StateFrame& f, std::size_t n) { f.velocities.resize(n / 3); }, always},
+      {sf::Q, "q of strand", R::Strand, 0, "model's coordinates (1/m, rad)",
+       "StrandModel::writeFrame", [](StateFrame& f) { return f.q.data(); },
+       [](const StateFrame& f) { return f.q.size(); },
+       [](StateFrame& f, std::size_t n) { f.q.resize(n); }, withCoordinates},
+      {sf::QDot, "qdot of strand", R::Strand, 0, "their rates (per s)", "StrandModel::writeFrame",
+       [](StateFrame& f) { return f.qdot.data(); },
+       [](const StateFrame& f) { return f.qdot.size(); },
+       [](StateFrame& f, std::size_t n) { f.qdot.resize(n); }, withCoordinates},
+      {sf::RootFrames, "the root pose of strand", R::Strand, RootFrameValues,
+       "m, then unit vectors", "StrandModel::writeFrame (appendRoot)",
+       [](StateFrame& f) { return f.rootFrames.data(); },
+       [](const StateFrame& f) { return f.rootFrames.size(); },
+       [](StateFrame& f, std::size_t n) { f.rootFrames.resize(n); }, withRoots},
+      {sf::RootVelocities, "the root velocity of strand", R::Strand, RootVelocityValues,
+       "m/s, then rad/s", "StrandModel::writeFrame (appendRoot)",
+       [](StateFrame& f) { return f.rootVelocities.data(); },
+       [](const StateFrame& f) { return f.rootVelocities.size(); },
+       [](StateFrame& f, std::size_t n) { f.rootVelocities.resize(n); }, withRoots},
+  };
+  return fields;
+}
+
+bool isFrameField(const std::string& name)
+{
+  const std::string path = stateformat::inGroup(stateformat::Frames, name);
+  for (const FrameField& f : frameFields())
+  {
+    if (path == f.path)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 StateHeader StateHeader::piece(const std::vector<std::int64_t>& ids) const
 {
   StateHeader p;
@@ -20,6 +91,7 @@ StateHeader StateHeader::piece(const std::vector<std::int64_t>& ids) const
   p.rootFrames = rootFrames;
   p.attributes = attributes;
   p.pointData = pointData;
+  p.singlePrecisionPoints = singlePrecisionPoints;
   p.strandIds = ids;
   p.offsets.assign(1, 0);
   for (std::int64_t k : ids)

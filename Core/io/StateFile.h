@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -54,6 +56,10 @@ struct StateHeader
   std::map<std::string, double> attributes;
   /// Names of the per-point scalars every frame carries (/frames/<name>, [T, P]).
   std::vector<std::string> pointData;
+  /// The points are the model's nodes and are drawn again from q and the roots (the
+  /// Super-Helix): the file keeps their positions and velocities in single precision, a view
+  /// for scripts; the frames in memory keep them in double.
+  bool singlePrecisionPoints = false;
   /// The groom and rest shape (optional).
   StateGroom groom;
   /// For a piece of a run (the strands one MPI rank holds, piece()): the run's number of
@@ -94,6 +100,69 @@ struct StateFrame
 
 inline constexpr int RootFrameValues = 12;
 inline constexpr int RootVelocityValues = 6;
+
+/// One per-frame array of StateFrame and its dataset in /frames: the frame's schema, declared
+/// once (frameFields()) and iterated by the writer, the reader (whole and piece), the frame
+/// store and the ghost exchange. The per-point scalars (StateHeader::pointData) are
+/// per-point rows of width 1 named by the header; forEachArray visits both.
+struct FrameField
+{
+  enum class Rows
+  {
+    Point, ///< one row per point (the model's nodes)
+    Strand ///< one row per strand
+  };
+  const char* path; ///< the dataset (io/StateFormat.h)
+  const char* what; ///< a row in messages: "the position of point" (then its number)
+  Rows rows;
+  int width;            ///< numbers per row; 0: the header's coordinatesPerStrand
+  const char* unit;     ///< of its numbers (docs/state-file.md)
+  const char* filledBy; ///< who fills it in a run
+  /// The frame's numbers of the field, row after row, and their count.
+  double* (*values)(StateFrame&);
+  std::size_t (*count)(const StateFrame&);
+  /// Gives the frame room for `numbers` numbers of the field.
+  void (*resize)(StateFrame&, std::size_t numbers);
+  /// Whether a file or a frame of `header` has the field.
+  bool (*present)(const StateHeader&);
+  /// Kept in single precision in a file of `header` (the points of a model drawn from q).
+  bool singlePrecision(const StateHeader& h) const
+  {
+    return rows == Rows::Point && h.singlePrecisionPoints;
+  }
+  std::size_t rowsOf(const StateHeader& h) const
+  {
+    return rows == Rows::Point ? h.numberOfPoints() : h.numberOfStrands();
+  }
+  std::size_t widthOf(const StateHeader& h) const
+  {
+    return width > 0 ? std::size_t(width) : std::size_t(std::max(0, h.coordinatesPerStrand));
+  }
+};
+
+/// The frame's schema: positions, velocities, q, q̇, root frames, root velocities.
+const std::vector<FrameField>& frameFields();
+/// Whether `name` in /frames is a field of frameFields(), so not a per-point scalar's.
+bool isFrameField(const std::string& name);
+
+/// One array of a frame as forEachArray gives it: a field of frameFields() or a per-point
+/// scalar (field null, name its name).
+struct FrameArray
+{
+  const FrameField* field = nullptr;
+  std::string name; ///< the dataset's path in /frames
+  std::string what; ///< a row in messages (FrameField::what; "'name' at point")
+  bool perPoint = true;
+  std::size_t width = 1;
+  double* data = nullptr;
+  std::size_t size = 0; ///< numbers held
+};
+
+/// Calls fn(FrameArray) for every array `header` says a frame has: the present fields of
+/// frameFields(), then the per-point scalars in the header's order. With `resize`, gives
+/// each the room `header` says first (a frame to be filled).
+template <class Fn>
+void forEachArray(const StateHeader& header, StateFrame& frame, bool resize, Fn&& fn);
 
 /// The energy terms every state file has.
 extern const char* const RequiredEnergyTerms[5];
@@ -187,7 +256,7 @@ public:
   int version() const;
   /// The strands of piece `piece` of `pieces` (increasing): when the file has the guides'
   /// rest roots (/strands/rest_root), a compact patch of them, every piece as many strands
-  /// to within one (recursive coordinate bisection, common/Partition.h); otherwise a run of
+  /// to within one (a range of their Hilbert curve, common/Partition.h); otherwise a run of
   /// consecutive strands. Every strand is in exactly one piece; a piece may be empty when
   /// there are fewer strands than pieces.
   std::vector<std::int64_t> pieceStrands(int piece, int pieces) const;
@@ -196,5 +265,57 @@ private:
   struct Impl;
   std::unique_ptr<Impl> P;
 };
+
+template <class Fn>
+void forEachArray(const StateHeader& header, StateFrame& frame, bool resize, Fn&& fn)
+{
+  for (const FrameField& field : frameFields())
+  {
+    if (!field.present(header))
+    {
+      continue;
+    }
+    const std::size_t width = field.widthOf(header);
+    if (resize)
+    {
+      field.resize(frame, field.rowsOf(header) * width);
+    }
+    FrameArray a;
+    a.field = &field;
+    a.name = field.path;
+    a.what = field.what;
+    a.perPoint = field.rows == FrameField::Rows::Point;
+    a.width = width;
+    a.data = field.values(frame);
+    a.size = field.count(frame);
+    fn(a);
+  }
+  for (const std::string& name : header.pointData)
+  {
+    FrameArray a;
+    a.name = "/frames/" + name;
+    a.what = "'" + name + "' at point";
+    auto it = frame.pointData.find(name);
+    if (resize)
+    {
+      it = frame.pointData.emplace(name, std::vector<double>()).first;
+      it->second.resize(header.numberOfPoints());
+    }
+    if (it != frame.pointData.end())
+    {
+      a.data = it->second.data();
+      a.size = it->second.size();
+    }
+    fn(a);
+  }
+}
+
+/// forEachArray of a frame that is only looked at (a missing per-point scalar: size 0).
+template <class Fn>
+void forEachArray(const StateHeader& header, const StateFrame& frame, Fn&& fn)
+{
+  forEachArray(header, const_cast<StateFrame&>(frame), false,
+               [&](const FrameArray& a) { fn(static_cast<const FrameArray&>(a)); });
+}
 
 } // namespace hair

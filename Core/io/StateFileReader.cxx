@@ -147,7 +147,7 @@ Status openFile(const std::string& path, Handle& file)
 }
 
 /// The root's format and format_version attributes (version 1, or 2: written by several
-/// MPI ranks).
+/// MPI ranks; 3, states at the model's nodes, by one writer or several).
 Status checkFormat(hid_t f, int& version)
 {
   std::string format;
@@ -163,11 +163,13 @@ Status checkFormat(hid_t f, int& version)
   {
     return damaged(s.message() + " (the format version, one integer).");
   }
-  if (version != sf::Version && version != sf::SharedVersion)
+  if (version != sf::Version && version != sf::SharedVersion && version != sf::OneWriterVersion)
   {
     return Status::Error("has state-file format version " + std::to_string(version) +
-                         "; this HairDynamics reads versions " + std::to_string(sf::Version) +
-                         " and " + std::to_string(sf::SharedVersion) + ".");
+                         "; this HairDynamics reads versions " +
+                         std::to_string(sf::OneWriterVersion) + ", " +
+                         std::to_string(sf::SharedVersion) + " and " + std::to_string(sf::Version) +
+                         ": open it with the HairDynamics that wrote it.");
   }
   return Status::Ok();
 }
@@ -419,8 +421,9 @@ Status readHeader(const Contents& c, hid_t f, hid_t offsets, StateHeader& header
   return Status::Ok();
 }
 
-/// Whole frames: version 1, the length of /time, written last in every frame; version 2,
-/// /whole_frames, written once every rank's part of a frame is (/time is as long as the run).
+/// Whole frames: one writer (version 1, or 3 without /whole_frames), the length of /time,
+/// written last in every frame; several ranks (version 2, or 3 with it), /whole_frames,
+/// written once every rank's part of a frame is (/time is as long as the run).
 /// The times of the whole frames must be finite and increasing; positions and velocities must
 /// hold at least as many frames, of the header's points.
 Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
@@ -437,10 +440,11 @@ Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
   {
     return s;
   }
-  if (c.Version == sf::SharedVersion)
+  if (c.Version == sf::SharedVersion ||
+      (c.Version == sf::Version && H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) > 0))
   {
-    // Version 2: /time is as long as the run from the start; /whole_frames, one int64
-    // written once every rank's part of a frame is, counts the whole frames.
+    // Written by several ranks: /time is as long as the run from the start; /whole_frames,
+    // one int64 written once every rank's part of a frame is, counts the whole frames.
     if (H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) <= 0)
     {
       return damaged(std::string(sf::WholeFrames) + " is missing (format version 2 counts its " +
@@ -464,6 +468,8 @@ Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
     c.Frames = n;
   }
   const hsize_t points = c.Header.numberOfPoints();
+  // Version 3 keeps the points of a model drawn from q in single precision.
+  c.Header.singlePrecisionPoints = positions.typeSize == sizeof(float);
   if (Status s = checkFrames(c, sf::Positions, positions, {points, 3}); !s)
   {
     return s;
@@ -532,7 +538,7 @@ Status findPointData(const Contents& c, hid_t f, StateHeader& header)
   for (const std::string& name : names)
   {
     const std::string path = sf::inGroup(sf::Frames, name);
-    if (sf::isFrameDataset(name) || H5Oexists_by_name(f, path.c_str(), H5P_DEFAULT) <= 0)
+    if (isFrameField(name) || H5Oexists_by_name(f, path.c_str(), H5P_DEFAULT) <= 0)
     {
       continue;
     }
@@ -780,8 +786,8 @@ std::vector<std::int64_t> StateFileReader::pieceStrands(int piece, int pieces) c
 
 /// Frame `index` as read (`out`, the whole run or a piece of it) checked and given its
 /// energies: the writer refuses non-finite values, so one here is damage.
-static Status finishFrame(const Contents& r, const std::string& path, std::int64_t index,
-                          StateFrame& out, StateFrame& frame)
+static Status finishFrame(const Contents& r, const StateHeader& header, const std::string& path,
+                          std::int64_t index, StateFrame& out, StateFrame& frame)
 {
   // The writer refuses non-finite values, so one here is damage: the frame is refused
   // rather than shown with points at NaN (which breaks the view's bounds and every filter
@@ -797,20 +803,7 @@ static Status finishFrame(const Contents& r, const std::string& path, std::int64
       }
     }
   };
-  finite(out.positions.empty() ? nullptr : out.positions[0].data(), 3 * out.positions.size(), 3,
-         "the position of point");
-  finite(out.velocities.empty() ? nullptr : out.velocities[0].data(), 3 * out.velocities.size(), 3,
-         "the velocity of point");
-  const std::size_t c = std::size_t(std::max(1, r.Header.coordinatesPerStrand));
-  finite(out.q.data(), out.q.size(), c, "q of strand");
-  finite(out.qdot.data(), out.qdot.size(), c, "qdot of strand");
-  finite(out.rootFrames.data(), out.rootFrames.size(), RootFrameValues, "the root pose of strand");
-  finite(out.rootVelocities.data(), out.rootVelocities.size(), RootVelocityValues,
-         "the root velocity of strand");
-  for (const auto& [name, values] : out.pointData)
-  {
-    finite(values.data(), values.size(), 1, "'" + name + "' at point");
-  }
+  forEachArray(header, out, [&](const FrameArray& a) { finite(a.data, a.size, a.width, a.what); });
   if (!bad.empty())
   {
     return Status::Error("the state file '" + path + "': frame " + std::to_string(index) +
@@ -835,6 +828,7 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
     return Status::Error("the state file '" + P->Path + "' has " + std::to_string(P->Frames) +
                          " whole frames; frame " + std::to_string(index) + " does not exist.");
   }
+  const StateHeader& h = P->Header;
   StateFrame out;
   out.time = P->Times[index];
   bool ok = true;
@@ -844,51 +838,27 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
     double bytes = 0;
     ok = checkPath(P->Path, bytes) && openFile(P->Path, file);
     const hid_t f = file.get();
-    const StateHeader& h = P->Header;
-    // Frame `index` of the dataset at `path`, if each of its frames still holds `values`
-    // values (the file may have been replaced since open()).
-    auto slab = [&](const std::string& path, hsize_t values, std::vector<double>& v)
-    {
-      Handle d(H5Dopen2(f, path.c_str(), H5P_DEFAULT));
-      const auto dims = extent(d.get());
-      double per = dims.empty() ? 0 : 1;
-      for (std::size_t k = 1; k < dims.size(); ++k)
-      {
-        per *= double(dims[k]);
-      }
-      return d.valid() && dims.size() >= 2 && dims[0] > hsize_t(index) && per == double(values) &&
-             readSlab(d.get(), hsize_t(index), v);
-    };
+    // Frame `index` of each array, if each of its frames still holds as many values as the
+    // header says (the file may have been replaced since open()).
     std::vector<double> buffer;
-    auto vectors = [&](const char* path, std::vector<Eigen::Vector3d>& v)
-    {
-      if (!slab(path, 3 * h.numberOfPoints(), buffer))
-      {
-        return false;
-      }
-      v.resize(buffer.size() / 3);
-      for (std::size_t i = 0; i < v.size(); ++i)
-      {
-        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
-      }
-      return true;
-    };
-    ok = ok && vectors(sf::Positions, out.positions) && vectors(sf::Velocities, out.velocities);
-    const hsize_t strands = h.numberOfStrands();
-    if (ok && h.coordinatesPerStrand > 0)
-    {
-      const hsize_t nq = strands * hsize_t(h.coordinatesPerStrand);
-      ok = slab(sf::Q, nq, out.q) && slab(sf::QDot, nq, out.qdot);
-    }
-    if (ok && h.rootFrames)
-    {
-      ok = slab(sf::RootFrames, strands * RootFrameValues, out.rootFrames) &&
-           slab(sf::RootVelocities, strands * RootVelocityValues, out.rootVelocities);
-    }
-    for (const std::string& name : h.pointData)
-    {
-      ok = ok && slab(sf::inGroup(sf::Frames, name), h.numberOfPoints(), out.pointData[name]);
-    }
+    forEachArray(h, out, true,
+                 [&](const FrameArray& a)
+                 {
+                   Handle d(ok ? H5Dopen2(f, a.name.c_str(), H5P_DEFAULT) : -1);
+                   const auto dims = extent(d.get());
+                   double per = dims.empty() ? 0 : 1;
+                   for (std::size_t k = 1; k < dims.size(); ++k)
+                   {
+                     per *= double(dims[k]);
+                   }
+                   ok = ok && d.valid() && dims.size() >= 2 && dims[0] > hsize_t(index) &&
+                        per == double(a.size) && readSlab(d.get(), hsize_t(index), buffer) &&
+                        buffer.size() == a.size;
+                   if (ok)
+                   {
+                     std::copy(buffer.begin(), buffer.end(), a.data);
+                   }
+                 });
   }
   H5E_END_TRY;
   if (!ok)
@@ -897,7 +867,7 @@ Status StateFileReader::readFrame(std::int64_t index, StateFrame& frame) const
                          " cannot be read: the file is damaged, or was replaced since it was "
                          "opened (open it again).");
   }
-  return finishFrame(*P, P->Path, index, out, frame);
+  return finishFrame(*P, h, P->Path, index, out, frame);
 }
 
 } // namespace hair
@@ -937,6 +907,7 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
     points.emplace_back(hsize_t(h.offsets[first]), hsize_t(h.offsets[last] - h.offsets[first]));
     i = j;
   }
+  const StateHeader piece = h.piece(strands);
   StateFrame out;
   out.time = P->Times[index];
   bool ok = true;
@@ -947,44 +918,16 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
     double bytes = 0;
     ok = checkPath(P->Path, bytes) && openFile(P->Path, file);
     const hid_t f = file.get();
-    auto read = [&](const char* name, const Runs& runs, std::vector<double>& data)
-    {
-      Handle d(ok ? H5Dopen2(f, name, H5P_DEFAULT) : -1);
-      RowSelection sel;
-      ok = ok && d.valid() && sel.build(d.get(), runs) && sel.moveToFrame(hsize_t(index));
-      if (ok)
-      {
-        data.resize(sel.values);
-        ok = H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(), H5P_DEFAULT,
-                     data.data()) >= 0;
-      }
-    };
-    auto vectors = [&](const char* name, std::vector<Eigen::Vector3d>& v)
-    {
-      std::vector<double> buffer;
-      read(name, points, buffer);
-      v.resize(buffer.size() / 3);
-      for (std::size_t i = 0; i < v.size(); ++i)
-      {
-        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
-      }
-    };
-    vectors(sf::Positions, out.positions);
-    vectors(sf::Velocities, out.velocities);
-    if (h.coordinatesPerStrand > 0)
-    {
-      read(sf::Q, rows, out.q);
-      read(sf::QDot, rows, out.qdot);
-    }
-    if (h.rootFrames)
-    {
-      read(sf::RootFrames, rows, out.rootFrames);
-      read(sf::RootVelocities, rows, out.rootVelocities);
-    }
-    for (const std::string& name : h.pointData)
-    {
-      read(sf::inGroup(sf::Frames, name).c_str(), points, out.pointData[name]);
-    }
+    forEachArray(piece, out, true,
+                 [&](const FrameArray& a)
+                 {
+                   Handle d(ok ? H5Dopen2(f, a.name.c_str(), H5P_DEFAULT) : -1);
+                   RowSelection sel;
+                   ok = ok && d.valid() && sel.build(d.get(), a.perPoint ? points : rows) &&
+                        sel.moveToFrame(hsize_t(index)) && sel.values == a.size &&
+                        H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(),
+                                H5P_DEFAULT, a.data) >= 0;
+                 });
   }
   H5E_END_TRY;
   if (!ok)
@@ -993,7 +936,7 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
                          " cannot be read: the file is damaged, or was replaced since it was "
                          "opened (open it again).");
   }
-  return finishFrame(*P, P->Path, index, out, frame);
+  return finishFrame(*P, piece, P->Path, index, out, frame);
 }
 
 } // namespace hair

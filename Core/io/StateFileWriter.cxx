@@ -22,11 +22,6 @@ namespace sf = stateformat;
 
 namespace
 {
-bool finite(const std::vector<double>& v)
-{
-  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
-}
-
 /// Creates (truncates) the file for one writer; an invalid handle if it cannot.
 Handle createFile(const std::string& path)
 {
@@ -111,25 +106,75 @@ struct PerFrame
 {
   hsize_t room = 0; ///< 0: growing
   Handle make(hid_t parent, const char* name, const std::vector<hsize_t>& frameShape,
-              bool fill = false) const
+              bool fill = false, hid_t type = H5T_NATIVE_DOUBLE) const
   {
-    return room == 0 ? createGrowing(parent, name, frameShape)
-                     : createFixed(parent, name, room, frameShape, fill);
+    return room == 0 ? createGrowing(parent, name, frameShape, type)
+                     : createFixed(parent, name, room, frameShape, fill, type);
   }
 };
 
-/// The root datasets of /frames, when the header asks for them.
-bool createRootFrames(hid_t frames, const StateHeader& header, const PerFrame& kind, Handle& poses,
-                      Handle& rates)
+/// One per-frame array of the file as the writer holds it: its dataset, whether it is kept
+/// in single precision, and a buffer for that conversion (reused from frame to frame).
+struct Dataset
 {
-  if (!header.rootFrames)
+  Handle handle;
+  bool single = false;
+  std::vector<float> narrow;
+  /// The frame's numbers as the dataset takes them: `data` itself, or narrowed.
+  const void* values(const double* data, std::size_t count)
   {
-    return true;
+    if (!single)
+    {
+      return data;
+    }
+    narrow.resize(count);
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      narrow[i] = static_cast<float>(data[i]);
+    }
+    return narrow.data();
   }
-  const hsize_t strands = header.numberOfStrands();
-  poses = kind.make(frames, sf::RootFrames, {strands, hsize_t(RootFrameValues)});
-  rates = kind.make(frames, sf::RootVelocities, {strands, hsize_t(RootVelocityValues)});
-  return poses.valid() && rates.valid();
+  hid_t memoryType() const { return single ? H5T_NATIVE_FLOAT : H5T_NATIVE_DOUBLE; }
+};
+
+/// One dataset of /frames per array of the frame's schema the header has (frameFields(),
+/// then the per-point scalars), by path.
+Status createFrameArrays(hid_t file, const StateHeader& header, const PerFrame& kind,
+                         std::map<std::string, Dataset>& datasets)
+{
+  for (const std::string& name : header.pointData)
+  {
+    if (isFrameField(name) ||
+        std::count(header.pointData.begin(), header.pointData.end(), name) > 1)
+    {
+      return Status::Error("the per-point array name '" + name + "' is reserved or repeated.");
+    }
+  }
+  StateFrame none;
+  Status made = Status::Ok();
+  forEachArray(header, none, false,
+               [&](const FrameArray& a)
+               {
+                 if (!made)
+                 {
+                   return;
+                 }
+                 Dataset& d = datasets[a.name];
+                 d.single = a.field && a.field->singlePrecision(header);
+                 std::vector<hsize_t> shape{a.perPoint ? header.numberOfPoints()
+                                                       : header.numberOfStrands()};
+                 if (a.field)
+                 {
+                   shape.push_back(a.width);
+                 }
+                 d.handle = kind.make(file, a.name.c_str(), shape, false,
+                                      d.single ? H5T_NATIVE_FLOAT : H5T_NATIVE_DOUBLE);
+                 if (!d.handle.valid())
+                 {
+                   made = Status::Error("cannot create " + a.name + ".");
+                 }
+               });
+  return made;
 }
 
 /// /strands: the offsets, then one dataset per strand parameter and per strand vector.
@@ -148,26 +193,6 @@ Status writeStrands(hid_t strands, const StateHeader& header, bool write)
     }
   }
   return writeStrandVectors(strands, header, write);
-}
-
-/// One dataset of /frames per per-point scalar.
-Status createPointData(hid_t frames, const StateHeader& header, const PerFrame& kind,
-                       std::map<std::string, Handle>& datasets)
-{
-  const hsize_t points = header.numberOfPoints();
-  for (const std::string& name : header.pointData)
-  {
-    if (sf::isFrameDataset(name) || datasets.count(name))
-    {
-      return Status::Error("the per-point array name '" + name + "' is reserved or repeated.");
-    }
-    datasets[name] = kind.make(frames, name.c_str(), {points});
-    if (!datasets[name].valid())
-    {
-      return Status::Error("cannot create " + sf::inGroup(sf::Frames, name) + ".");
-    }
-  }
-  return Status::Ok();
 }
 
 /// One dataset of /energy per term: the required ones and `extraTerms`.
@@ -240,8 +265,8 @@ bool lockedByAnotherRun(const std::string& path)
 
 struct StateFileWriter::Impl
 {
-  Handle File, Time, Positions, Velocities, Q, QDot, RootFrames, RootVelocities;
-  std::map<std::string, Handle> PointData;
+  Handle File, Time;
+  std::map<std::string, Dataset> Arrays; ///< the per-frame arrays, by path
   std::map<std::string, Handle> Energy;
   StateHeader Header;
   std::string Path;
@@ -379,7 +404,7 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
   {
     made = [&]() -> Status
     {
-      if (Status s = writeRootAttributes(f, header, shared ? sf::SharedVersion : sf::Version); !s)
+      if (Status s = writeRootAttributes(f, header, sf::Version); !s)
       {
         return s;
       }
@@ -395,34 +420,16 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
         return s;
       }
       const PerFrame kind{shared ? hsize_t(sharing.frames) : 0};
-      const hsize_t points = header.numberOfPoints(), strandCount = header.numberOfStrands();
       P->Time = kind.make(f, sf::Time, {}, true);
-      P->Positions = kind.make(frames.get(), sf::Positions, {points, 3});
-      P->Velocities = kind.make(frames.get(), sf::Velocities, {points, 3});
-      if (header.coordinatesPerStrand > 0)
+      if (!P->Time.valid())
       {
-        const hsize_t c = hsize_t(header.coordinatesPerStrand);
-        P->Q = kind.make(frames.get(), sf::Q, {strandCount, c});
-        P->QDot = kind.make(frames.get(), sf::QDot, {strandCount, c});
+        return Status::Error(std::string("cannot create ") + sf::Time + ".");
       }
-      if (!createRootFrames(frames.get(), header, kind, P->RootFrames, P->RootVelocities))
-      {
-        return Status::Error("cannot create the root datasets.");
-      }
-      if (Status s = createPointData(frames.get(), header, kind, P->PointData); !s)
+      if (Status s = createFrameArrays(f, header, kind, P->Arrays); !s)
       {
         return s;
       }
-      if (Status s = createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy); !s)
-      {
-        return s;
-      }
-      if (!P->Time.valid() || !P->Positions.valid() || !P->Velocities.valid() ||
-          (header.coordinatesPerStrand > 0 && (!P->Q.valid() || !P->QDot.valid())))
-      {
-        return Status::Error("cannot create the per-frame datasets.");
-      }
-      return Status::Ok();
+      return createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy);
     }();
   }
   H5E_END_TRY;
@@ -472,16 +479,11 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
         ok = P->Selections[d.get()].build(d.get(), runs);
       }
     };
-    select(P->Positions, piece.points);
-    select(P->Velocities, piece.points);
-    select(P->Q, piece.strands);
-    select(P->QDot, piece.strands);
-    select(P->RootFrames, piece.strands);
-    select(P->RootVelocities, piece.strands);
-    for (auto& [name, d] : P->PointData)
-    {
-      select(d, piece.points);
-    }
+    StateFrame none;
+    forEachArray(header, none, false,
+                 [&](const FrameArray& a) {
+                   select(P->Arrays.at(a.name).handle, a.perPoint ? piece.points : piece.strands);
+                 });
     ok = ok && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0;
   }
   H5E_END_TRY;
@@ -502,61 +504,45 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
 
 namespace
 {
-/// The frame's vectors as rows of three numbers.
-std::vector<double> flat(const std::vector<Eigen::Vector3d>& v)
-{
-  std::vector<double> out(3 * v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-  {
-    out[3 * i] = v[i].x();
-    out[3 * i + 1] = v[i].y();
-    out[3 * i + 2] = v[i].z();
-  }
-  return out;
-}
-
 /// The checks of append() on a frame of the strands `h` describes (a rank's piece of a
 /// shared file); `where` names the file and the frame.
-Status checkFrame(const StateHeader& h, const std::map<std::string, Handle>& pointData,
-                  const std::map<std::string, Handle>& energy, const StateFrame& frame,
-                  const std::vector<double>& pos, const std::vector<double>& vel,
-                  const std::string& where)
+Status checkFrame(const StateHeader& h, const std::map<std::string, Handle>& energy,
+                  const StateFrame& frame, const std::string& where)
 {
-  if (frame.positions.size() != h.numberOfPoints() || frame.velocities.size() != h.numberOfPoints())
+  if (!std::isfinite(frame.time))
   {
-    return Status::Error(where + "expected " + std::to_string(h.numberOfPoints()) +
-                         " positions and velocities, got " +
-                         std::to_string(frame.positions.size()) + " and " +
-                         std::to_string(frame.velocities.size()) + ".");
+    return Status::Error(where + "its time is not finite.");
   }
-  const std::size_t nq = h.numberOfStrands() * std::size_t(h.coordinatesPerStrand);
-  if (frame.q.size() != nq || frame.qdot.size() != nq)
+  Status checked = Status::Ok();
+  forEachArray(h, frame,
+               [&](const FrameArray& a)
+               {
+                 if (!checked)
+                 {
+                   return;
+                 }
+                 const std::size_t want =
+                     (a.perPoint ? h.numberOfPoints() : h.numberOfStrands()) * a.width;
+                 if (a.size != want)
+                 {
+                   checked = Status::Error(where + a.name + ": expected " + std::to_string(want) +
+                                           " values, got " + std::to_string(a.size) + ".");
+                   return;
+                 }
+                 for (std::size_t i = 0; i < a.size; ++i)
+                 {
+                   if (!std::isfinite(a.data[i]))
+                   {
+                     checked = Status::Error(where + "NaN or infinite values in " + a.name +
+                                             ": the frame is not written, the frames before it "
+                                             "are kept.");
+                     return;
+                   }
+                 }
+               });
+  if (!checked)
   {
-    return Status::Error(where + "expected " + std::to_string(nq) + " values of q and qdot.");
-  }
-  const std::size_t roots = h.rootFrames ? h.numberOfStrands() : 0;
-  if (frame.rootFrames.size() != roots * RootFrameValues ||
-      frame.rootVelocities.size() != roots * RootVelocityValues)
-  {
-    return Status::Error(where + "expected " + std::to_string(roots) +
-                         " root frames and velocities.");
-  }
-  if (!std::isfinite(frame.time) || !finite(pos) || !finite(vel) || !finite(frame.q) ||
-      !finite(frame.qdot) || !finite(frame.rootFrames) || !finite(frame.rootVelocities))
-  {
-    return Status::Error(
-        where + "NaN or infinite values: the frame is not written, the frames before it are kept.");
-  }
-  for (const auto& [name, dataset] : pointData)
-  {
-    const auto it = frame.pointData.find(name);
-    if (it == frame.pointData.end() || it->second.size() != h.numberOfPoints() ||
-        !finite(it->second))
-    {
-      return Status::Error(where + "the per-point array '" + name +
-                           "' is missing, of the "
-                           "wrong size, or not finite.");
-    }
+    return checked;
   }
   for (const auto& [name, value] : frame.energy)
   {
@@ -598,8 +584,7 @@ Status StateFileWriter::append(const StateFrame& frame)
     return P->appendShared(frame, where);
   }
   const StateHeader& h = P->Header;
-  const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
-  if (Status s = checkFrame(h, P->PointData, P->Energy, frame, pos, vel, where); !s)
+  if (Status s = checkFrame(h, P->Energy, frame, where); !s)
   {
     return s;
   }
@@ -607,22 +592,13 @@ Status StateFileWriter::append(const StateFrame& frame)
   bool ok = true;
   H5E_BEGIN_TRY
   {
-    ok = appendSlab(P->Positions.get(), t, pos.data()) &&
-         appendSlab(P->Velocities.get(), t, vel.data());
-    if (ok && h.coordinatesPerStrand > 0)
-    {
-      ok = appendSlab(P->Q.get(), t, frame.q.data()) &&
-           appendSlab(P->QDot.get(), t, frame.qdot.data());
-    }
-    if (ok && h.rootFrames)
-    {
-      ok = appendSlab(P->RootFrames.get(), t, frame.rootFrames.data()) &&
-           appendSlab(P->RootVelocities.get(), t, frame.rootVelocities.data());
-    }
-    for (auto& [name, dataset] : P->PointData)
-    {
-      ok = ok && appendSlab(dataset.get(), t, frame.pointData.at(name).data());
-    }
+    forEachArray(h, frame,
+                 [&](const FrameArray& a)
+                 {
+                   Dataset& d = P->Arrays.at(a.name);
+                   ok = ok &&
+                        appendSlab(d.handle.get(), t, d.values(a.data, a.size), d.memoryType());
+                 });
     for (auto& [name, dataset] : P->Energy)
     {
       if (ok)
@@ -652,8 +628,7 @@ Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::s
 {
   const Ranks& ranks = Sharing.ranks;
   const StateHeader& h = PieceHeader;
-  const std::vector<double> pos = flat(frame.positions), vel = flat(frame.velocities);
-  Status checked = checkFrame(h, PointData, Energy, frame, pos, vel, where);
+  Status checked = checkFrame(h, Energy, frame, where);
   if (checked && Frames >= hsize_t(Sharing.frames))
   {
     checked = Status::Error(where + "the file has room for the run's " +
@@ -671,25 +646,15 @@ Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::s
   {
     Handle collective(H5Pcreate(H5P_DATASET_XFER));
     H5Pset_dxpl_mpio(collective.get(), H5FD_MPIO_COLLECTIVE);
-    auto write = [&](const Handle& d, const double* data)
-    {
-      if (ok && d.valid())
-      {
-        RowSelection& sel = Selections.at(d.get());
-        ok = sel.moveToFrame(t) && H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(),
-                                            sel.file.get(), collective.get(), data) >= 0;
-      }
-    };
-    write(Positions, pos.data());
-    write(Velocities, vel.data());
-    write(Q, frame.q.data());
-    write(QDot, frame.qdot.data());
-    write(RootFrames, frame.rootFrames.data());
-    write(RootVelocities, frame.rootVelocities.data());
-    for (auto& [name, dataset] : PointData)
-    {
-      write(dataset, frame.pointData.at(name).data());
-    }
+    forEachArray(h, frame,
+                 [&](const FrameArray& a)
+                 {
+                   Dataset& d = Arrays.at(a.name);
+                   RowSelection& sel = Selections.at(d.handle.get());
+                   ok = ok && sel.moveToFrame(t) &&
+                        H5Dwrite(d.handle.get(), d.memoryType(), sel.memory.get(), sel.file.get(),
+                                 collective.get(), d.values(a.data, a.size)) >= 0;
+                 });
     // The run's numbers of the frame (the same on every rank): written by one.
     if (writer)
     {
@@ -747,36 +712,15 @@ Status StateFileWriter::readPiece(std::int64_t index, StateFrame& frame) const
   {
     Handle collective(H5Pcreate(H5P_DATASET_XFER));
     H5Pset_dxpl_mpio(collective.get(), H5FD_MPIO_COLLECTIVE);
-    auto read = [&](const Handle& d, std::vector<double>& data)
-    {
-      if (ok && d.valid())
-      {
-        RowSelection& sel = P->Selections.at(d.get());
-        data.resize(sel.values);
-        ok = sel.moveToFrame(t) && H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(),
-                                           sel.file.get(), collective.get(), data.data()) >= 0;
-      }
-    };
-    auto vectors = [&](const Handle& d, std::vector<Eigen::Vector3d>& v)
-    {
-      std::vector<double> buffer;
-      read(d, buffer);
-      v.resize(buffer.size() / 3);
-      for (std::size_t i = 0; i < v.size(); ++i)
-      {
-        v[i] = Eigen::Vector3d(buffer[3 * i], buffer[3 * i + 1], buffer[3 * i + 2]);
-      }
-    };
-    vectors(P->Positions, out.positions);
-    vectors(P->Velocities, out.velocities);
-    read(P->Q, out.q);
-    read(P->QDot, out.qdot);
-    read(P->RootFrames, out.rootFrames);
-    read(P->RootVelocities, out.rootVelocities);
-    for (auto& [name, dataset] : P->PointData)
-    {
-      read(dataset, out.pointData[name]);
-    }
+    forEachArray(h, out, true,
+                 [&](const FrameArray& a)
+                 {
+                   const Handle& d = P->Arrays.at(a.name).handle;
+                   RowSelection& sel = P->Selections.at(d.get());
+                   ok = ok && sel.values == a.size && sel.moveToFrame(t) &&
+                        H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(),
+                                collective.get(), a.data) >= 0;
+                 });
     // The run's numbers, written by rank 0: read by every rank.
     auto scalar = [&](const Handle& d, double& value)
     {
@@ -794,7 +738,6 @@ Status StateFileWriter::readPiece(std::int64_t index, StateFrame& frame) const
     }
   }
   H5E_END_TRY;
-  (void)h;
   if (Status s = P->Sharing.ranks.agree(ok ? Status::Ok()
                                            : Status::Error("the state file '" + P->Path +
                                                            "': frame " + std::to_string(index) +
@@ -814,15 +757,9 @@ Status StateFileWriter::close()
     return Status::Ok();
   }
   P->Energy.clear();
-  P->PointData.clear();
+  P->Arrays.clear();
   P->Selections.clear();
   P->Time.reset();
-  P->Positions.reset();
-  P->Velocities.reset();
-  P->Q.reset();
-  P->QDot.reset();
-  P->RootFrames.reset();
-  P->RootVelocities.reset();
   P->WholeFrames.reset();
   // A shared file is closed collectively; after MPI_Finalize (a writer outliving it) HDF5
   // has closed it already, at MPI_Finalize. Its structure has been on disk since create().

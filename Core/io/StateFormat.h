@@ -6,12 +6,15 @@
 namespace hair::stateformat
 {
 
-/// The value of the root's `format` attribute, and the version this code writes and reads.
+/// The value of the root's `format` attribute, and the version this code writes: states at
+/// the model's nodes, by one writer or by several MPI ranks together (a shared file has
+/// WholeFrames). This code reads versions 1, 2 and 3 (docs/state-file.md).
 inline constexpr char Name[] = "HairDynamics states";
-inline constexpr int Version = 1;
-/// The version of a file written by several MPI ranks together: every per-frame dataset has
-/// room for the run's frames from the start, and WholeFrames counts the whole ones
-/// (docs/state-file.md). This code reads both versions.
+inline constexpr int Version = 3;
+/// Earlier versions, read: 1, points at display resolution and per-point scalars, one writer;
+/// 2, the same written by several MPI ranks together (room for the run's frames from the
+/// start, WholeFrames counts the whole ones).
+inline constexpr int OneWriterVersion = 1;
 inline constexpr int SharedVersion = 2;
 
 // Attributes of the root group. Every other numeric attribute of the root is a run
@@ -26,23 +29,24 @@ inline constexpr const char* RootAttributes[] = {FormatAttribute, VersionAttribu
 // Groups and datasets, by absolute path. T counts frames (/frames and /energy may hold one
 // more than /time), P points, S strands, C coordinates per strand.
 inline constexpr char Time[] = "/time"; ///< [T]; its length is the number of whole frames
-/// int64 scalar, version 2 only: the number of whole frames (/time is as long as the run).
+/// int64 scalar, in a file written by several MPI ranks (version 2, and version 3 when they
+/// share it): the number of whole frames (/time is as long as the run).
 inline constexpr char WholeFrames[] = "/whole_frames";
 /// offsets, then one dataset [S] per strand parameter and one [S, 3] per strand vector.
 inline constexpr char Strands[] = "/strands";
 inline constexpr char Offsets[] = "/strands/offsets"; ///< int64 [S+1]
 /// The datasets below, then one dataset [T, P] per per-point scalar.
 inline constexpr char Frames[] = "/frames";
-inline constexpr char Positions[] = "/frames/positions";   ///< [T, P, 3]
-inline constexpr char Velocities[] = "/frames/velocities"; ///< [T, P, 3]
+/// [T, P, 3]: version 3, at the model's nodes (float32 for a model drawn from q); versions 1
+/// and 2, at the run's display resolution.
+inline constexpr char Positions[] = "/frames/positions";
+inline constexpr char Velocities[] = "/frames/velocities"; ///< [T, P, 3], as Positions
 inline constexpr char Q[] = "/frames/q";                   ///< [T, S, C], absent when C = 0
 inline constexpr char QDot[] = "/frames/qdot";             ///< [T, S, C], absent when C = 0
 /// [T, S, RootFrameValues] and [T, S, RootVelocityValues] (StateFile.h), optional: each
 /// strand's root pose and rates.
 inline constexpr char RootFrames[] = "/frames/root_frames";
 inline constexpr char RootVelocities[] = "/frames/root_velocities";
-inline constexpr const char* FrameDatasets[] = {Positions, Velocities, Q,
-                                                QDot,      RootFrames, RootVelocities};
 /// One dataset [T] per energy term; RequiredEnergyTerms (StateFile.h) are always there.
 inline constexpr char Energy[] = "/energy";
 /// Optional (StateGroom): the guide curves and the rest shape a run started from, and one
@@ -56,20 +60,6 @@ inline constexpr char RestCoordinates[] = "/groom/rest_coordinates"; ///< [S, C]
 inline std::string inGroup(const char* group, const std::string& name)
 {
   return std::string(group) + "/" + name;
-}
-
-/// Whether `name` in /frames is one of the FrameDatasets, so not a per-point scalar's.
-inline bool isFrameDataset(const std::string& name)
-{
-  const std::string path = inGroup(Frames, name);
-  for (const char* d : FrameDatasets)
-  {
-    if (path == d)
-    {
-      return true;
-    }
-  }
-  return false;
 }
 
 } // namespace hair::stateformat

@@ -58,11 +58,13 @@ public:
   /// The layout of its frames: model, offsets (points per strand), coordinatesPerStrand,
   /// and its own run attributes (added to those the frame loop writes).
   virtual void describe(StateHeader& header) const = 0;
-  /// The current state into `frame`: positions and velocities of every point, the point
-  /// scalars "curvature" (1/m) and "twist" (1/m), q and q̇, and each strand's root pose and
-  /// rates (appendRoot, model/StrandPoints.h: the orientation's columns the material frame
-  /// at the root, tangent first), from which simulation/GuideDrawing.cxx draws the strand
-  /// again (frame.time is set by the caller).
+  /// The current state into `frame`, as the state file keeps it: the positions and
+  /// velocities of the model's nodes (describe()'s offsets: a Super-Helix's element ends, a
+  /// projective strand's segment ends), q and q̇, and each strand's root pose and rates
+  /// (appendRoot, model/StrandPoints.h: the orientation's columns the material frame at the
+  /// root, tangent first), from which simulation/GuideDrawing.cxx draws the strand at any
+  /// resolution (frame.time and the per-point scalars are the caller's). A frame given back
+  /// from an earlier call is refilled in place.
   virtual void writeFrame(StateFrame& frame) const = 0;
   /// The energy budget now (works and dissipations since t = 0).
   virtual EnergyBudget energy() const = 0;

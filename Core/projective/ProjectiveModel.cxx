@@ -148,30 +148,12 @@ void ProjectiveModel::writeFrame(StateFrame& f) const
   f.rootVelocities.clear();
   // The roots' rates: the head's velocity field at the model's time (the roots move with it).
   const RigidRates rates = Strands.scene().rootMotion.rates(Strands.time());
-  std::vector<double>& curvature = f.pointData["curvature"];
-  std::vector<double>& twist = f.pointData["twist"];
-  curvature.clear();
-  twist.clear();
   for (int s = 0; s < Strands.numberOfStrands(); ++s)
   {
     const auto& nodes = Strands.nodes(s);
     const auto& velocities = Strands.nodeVelocities(s);
     f.positions.insert(f.positions.end(), nodes.begin(), nodes.end());
     f.velocities.insert(f.velocities.end(), velocities.begin(), velocities.end());
-    // Discrete curvature: the turning angle at a node over the segment length; the
-    // projective model has no twist.
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-    {
-      double kappa = 0;
-      if (i > 0 && i + 1 < nodes.size())
-      {
-        const Eigen::Vector3d a = (nodes[i] - nodes[i - 1]).normalized();
-        const Eigen::Vector3d b = (nodes[i + 1] - nodes[i]).normalized();
-        kappa = std::atan2(a.cross(b).norm(), a.dot(b)) / Strands.segmentLength(s);
-      }
-      curvature.push_back(kappa);
-      twist.push_back(0.0);
-    }
     RootState root;
     root.position = nodes.front();
     root.orientation = materialFrame(Strands.rootFrame(s));

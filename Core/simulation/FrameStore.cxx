@@ -1,5 +1,7 @@
 #include "simulation/FrameStore.h"
 
+#include "simulation/GuideDrawing.h"
+
 #include <cmath>
 #include <cstdio>
 
@@ -28,10 +30,11 @@ FrameStore::~FrameStore() = default;
 
 double FrameStore::bytesOf(const StateFrame& f)
 {
-  double bytes = sizeof(StateFrame) +
-                 sizeof(Eigen::Vector3d) * double(f.positions.size() + f.velocities.size()) +
-                 sizeof(double) * double(f.q.size() + f.qdot.size() + f.rootFrames.size() +
-                                         f.rootVelocities.size());
+  double bytes = sizeof(StateFrame);
+  for (const FrameField& field : frameFields())
+  {
+    bytes += sizeof(double) * double(field.count(f));
+  }
   for (const auto& [name, values] : f.pointData)
   {
     bytes += name.size() + sizeof(double) * double(values.size());
@@ -172,15 +175,21 @@ void FrameStore::release(int index)
   {
     return; // unknown, or the newest frame
   }
+  // Its time and energy stay; its arrays become the spare frame the next one is written
+  // into (spare()), so that a run streaming to its file touches no new memory per frame.
   StateFrame& f = Frames[index];
-  // Swapped with empty containers, so that the memory is returned (clear() keeps capacity).
-  std::vector<Eigen::Vector3d>().swap(f.positions);
-  std::vector<Eigen::Vector3d>().swap(f.velocities);
-  std::vector<double>().swap(f.q);
-  std::vector<double>().swap(f.qdot);
-  std::vector<double>().swap(f.rootFrames);
-  std::vector<double>().swap(f.rootVelocities);
-  f.pointData.clear();
+  StateFrame kept;
+  kept.time = f.time;
+  kept.energy.swap(f.energy);
+  Spare = std::move(f);
+  f = std::move(kept);
+}
+
+StateFrame FrameStore::spare()
+{
+  StateFrame s = std::move(Spare);
+  Spare = StateFrame();
+  return s;
 }
 
 Status FrameStore::read(int index, StateFrame& out) const
@@ -208,6 +217,9 @@ Status FrameStore::read(int index, StateFrame& out) const
     s = reader.open(Options.stateFile);
     s = s ? reader.readFrame(index, out) : s;
   }
+  // The file keeps a Super-Helix's nodes in single precision: drawn again from the state,
+  // the frame is the one the run kept, bit for bit.
+  s = s ? restoreNodes(Piece, out) : s;
   if (!s)
   {
     return Status::Error("frame " + std::to_string(index) +

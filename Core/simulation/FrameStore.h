@@ -55,6 +55,9 @@ public:
   /// closes the file and is returned; the frame stays in memory. Under MPI, collective.
   Status add(StateFrame frame);
   void close();
+  /// A frame to write the next one into: the arrays of the last frame released from memory
+  /// (their memory kept), or an empty frame.
+  StateFrame spare();
 
   int size() const { return static_cast<int>(Frames.size()); }
   /// Frames kept whole in memory at most (the others only by time and energy).
@@ -77,6 +80,7 @@ private:
   StorageOptions Options;
   Ranks Shared; ///< the ranks of the run (one: this process)
   std::vector<StateFrame> Frames;
+  StateFrame Spare; ///< the arrays of the last released frame
   int Window = std::numeric_limits<int>::max();
   std::unique_ptr<StateFileWriter> Writer;
 };

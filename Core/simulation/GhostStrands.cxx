@@ -103,26 +103,18 @@ void GhostStrands::plan(const std::vector<Eigen::Vector3d>& roots, const std::ve
 Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const StateHeader& mine,
                               const StateFrame& piece, StateFrame& ghosts) const
 {
-  const std::size_t c = std::size_t(std::max(0, run.coordinatesPerStrand));
-  const bool roots = !piece.rootFrames.empty();
-  // Strand k of `h` in `f`, packed: points, velocities, per-point arrays (by name), q, q̇,
-  // root pose and rates.
+  // Strand k of `h` in `f`, packed: its rows of every array of the frame's schema
+  // (frameFields(), then the per-point scalars), in that order.
   auto pack = [&](const StateHeader& h, const StateFrame& f, std::size_t k, std::vector<char>& out)
   {
-    const std::int64_t first = h.offsets[k], n = h.offsets[k + 1] - first;
-    append(out, f.positions[first].data(), 3 * std::size_t(n));
-    append(out, f.velocities[first].data(), 3 * std::size_t(n));
-    for (const auto& [name, values] : f.pointData)
-    {
-      append(out, values.data() + first, std::size_t(n));
-    }
-    append(out, f.q.data() + k * c, c);
-    append(out, f.qdot.data() + k * c, c);
-    if (roots)
-    {
-      append(out, f.rootFrames.data() + k * RootFrameValues, RootFrameValues);
-      append(out, f.rootVelocities.data() + k * RootVelocityValues, RootVelocityValues);
-    }
+    forEachArray(h, f,
+                 [&](const FrameArray& a)
+                 {
+                   const std::int64_t first = a.perPoint ? h.offsets[k] : std::int64_t(k);
+                   const std::int64_t rows =
+                       a.perPoint ? h.offsets[k + 1] - h.offsets[k] : std::int64_t(1);
+                   append(out, a.data + first * std::int64_t(a.width), std::size_t(rows) * a.width);
+                 });
   };
   std::unordered_map<std::int64_t, std::size_t> place; // own strand number -> index in `mine`
   for (std::size_t k = 0; k < mine.numberOfStrands(); ++k)
@@ -143,19 +135,7 @@ Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const 
   const StateHeader h = run.piece(Ghosts);
   ghosts = StateFrame();
   ghosts.time = piece.time;
-  ghosts.positions.resize(h.numberOfPoints());
-  ghosts.velocities.resize(h.numberOfPoints());
-  for (const auto& [name, values] : piece.pointData)
-  {
-    ghosts.pointData[name].resize(h.numberOfPoints());
-  }
-  ghosts.q.resize(h.numberOfStrands() * c);
-  ghosts.qdot.resize(h.numberOfStrands() * c);
-  if (roots)
-  {
-    ghosts.rootFrames.resize(h.numberOfStrands() * RootFrameValues);
-    ghosts.rootVelocities.resize(h.numberOfStrands() * RootVelocityValues);
-  }
+  forEachArray(h, ghosts, true, [](const FrameArray&) {});
   std::unordered_map<std::int64_t, std::size_t> ghostPlace;
   for (std::size_t k = 0; k < Ghosts.size(); ++k)
   {
@@ -181,19 +161,16 @@ Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const 
     for (std::int64_t id : Receive[p])
     {
       const std::size_t k = ghostPlace.at(id);
-      const std::int64_t first = h.offsets[k], n = h.offsets[k + 1] - first;
-      bool ok = take(ghosts.positions[first].data(), 3 * std::size_t(n)) &&
-                take(ghosts.velocities[first].data(), 3 * std::size_t(n));
-      for (auto& [name, values] : ghosts.pointData)
-      {
-        ok = ok && take(values.data() + first, std::size_t(n));
-      }
-      ok = ok && take(ghosts.q.data() + k * c, c) && take(ghosts.qdot.data() + k * c, c);
-      if (roots)
-      {
-        ok = ok && take(ghosts.rootFrames.data() + k * RootFrameValues, RootFrameValues) &&
-             take(ghosts.rootVelocities.data() + k * RootVelocityValues, RootVelocityValues);
-      }
+      bool ok = true;
+      forEachArray(h, ghosts, false,
+                   [&](const FrameArray& a)
+                   {
+                     const std::int64_t first = a.perPoint ? h.offsets[k] : std::int64_t(k);
+                     const std::int64_t rows =
+                         a.perPoint ? h.offsets[k + 1] - h.offsets[k] : std::int64_t(1);
+                     ok = ok &&
+                          take(a.data + first * std::int64_t(a.width), std::size_t(rows) * a.width);
+                   });
       if (!ok)
       {
         received = Status::Error("the ghost strands from rank " + std::to_string(Partners[p]) +

@@ -118,20 +118,19 @@ Status drawSuperHelices(const StateHeader& header, const StateFrame& frame, int 
       });
   for (auto& [name, values] : f.pointData)
   {
-    if (name == "curvature")
-    {
-      values = curvature;
-    }
-    else if (name == "twist")
-    {
-      values = twist;
-    }
-    else if (per != stored)
+    if (name != "curvature" && name != "twist" && per != stored)
     {
       std::vector<double> resampled;
       resample(values, header, stored, h, per, resampled);
       values.swap(resampled);
     }
+  }
+  f.pointData["curvature"].swap(curvature);
+  f.pointData["twist"].swap(twist);
+  h.pointData = {};
+  for (const auto& [name, values] : f.pointData)
+  {
+    h.pointData.push_back(name);
   }
   return Status::Ok();
 }
@@ -141,12 +140,29 @@ void drawProjective(const StateHeader& header, const StateFrame& frame, GuideDra
   const int c = header.coordinatesPerStrand;
   out.tangents.clear();
   out.directors.clear();
+  std::vector<double>& curvature = out.frame.pointData["curvature"];
+  std::vector<double>& twist = out.frame.pointData["twist"];
+  curvature.assign(header.numberOfPoints(), 0.0);
+  twist.assign(header.numberOfPoints(), 0.0); // the projective model has no twist
   std::vector<Eigen::Vector3d> t, d;
   for (std::size_t k = 0; k < header.numberOfStrands(); ++k)
   {
     nodeFrames(segmentFrame(rootOf(frame, k).orientation), frame.q.data() + k * c, c / 2, t, d);
     out.tangents.insert(out.tangents.end(), t.begin(), t.end());
     out.directors.insert(out.directors.end(), d.begin(), d.end());
+    // Discrete curvature: the turning angle at an inner node over the segment length.
+    const std::int64_t first = header.offsets[k], last = header.offsets[k + 1] - 1;
+    for (std::int64_t i = first + 1; i < last; ++i)
+    {
+      const Eigen::Vector3d a = frame.positions[i] - frame.positions[i - 1];
+      const Eigen::Vector3d b = frame.positions[i + 1] - frame.positions[i];
+      curvature[i] = std::atan2(a.cross(b).norm(), a.dot(b)) / a.norm();
+    }
+  }
+  out.header.pointData.clear();
+  for (const auto& [name, values] : out.frame.pointData)
+  {
+    out.header.pointData.push_back(name);
   }
 }
 } // namespace
@@ -198,6 +214,25 @@ Status drawGuides(const StateHeader& header, const StateFrame& frame, int points
   out.warning = "the model '" + header.model +
                 "' is not one this HairDynamics draws: the strands are shown at their stored "
                 "points, without material frames.";
+  return Status::Ok();
+}
+
+Status restoreNodes(const StateHeader& header, StateFrame& frame)
+{
+  if (!header.singlePrecisionPoints)
+  {
+    return Status::Ok();
+  }
+  GuideDrawing nodes;
+  if (Status s = drawGuides(header, frame, 1, 1, nodes); !s)
+  {
+    return s;
+  }
+  if (nodes.warning.empty() && nodes.frame.positions.size() == frame.positions.size())
+  {
+    frame.positions.swap(nodes.frame.positions);
+    frame.velocities.swap(nodes.frame.velocities);
+  }
   return Status::Ok();
 }
 

@@ -39,4 +39,10 @@ struct GuideDrawing
 Status drawGuides(const StateHeader& header, const StateFrame& frame, int pointsPerElement,
                   int threads, GuideDrawing& out);
 
+/// A frame read from a state file that keeps its nodes in single precision
+/// (header.singlePrecisionPoints: the Super-Helix's) given back its nodes and their velocities
+/// in double, drawn again from its state by the code the model writes them with: the frame
+/// the run kept, bit for bit. Other frames are left as they are.
+Status restoreNodes(const StateHeader& header, StateFrame& frame);
+
 } // namespace hair

@@ -83,15 +83,11 @@ void Simulation::Impl::groom(const std::vector<GuideStrand>& strands)
 
 StateFrame Simulation::Impl::record()
 {
-  StateFrame f;
+  // Into the frame the store gave back (its arrays keep their memory from frame to frame).
+  StateFrame f = Store.spare();
   if (!Mine.empty())
   {
     Model->writeFrame(f);
-  }
-  else
-  {
-    f.pointData["curvature"];
-    f.pointData["twist"];
   }
   // Every rank with strands took the same steps to the same time; one without takes theirs.
   f.time = ranks().max(Mine.empty() ? -std::numeric_limits<double>::infinity() : Model->time());
@@ -114,6 +110,8 @@ StateFrame Simulation::Impl::record()
   }
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
+  // The penetration at the model's nodes (the frame's points): how deep each is inside a
+  // body part, how many are inside and the deepest.
   std::vector<double>& depthOf = f.pointData["contact_depth"];
   depthOf.assign(f.positions.size(), 0.0);
   std::vector<char> inside(f.positions.size(), 0);
@@ -194,7 +192,8 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
     }
   }
   Header.rootFrames = true; // every model's writeFrame gives them (model/StrandModel.h)
-  Header.pointData = {"curvature", "twist", "contact_depth"};
+  // The penetration at the nodes; curvature and twist are drawn with the points.
+  Header.pointData = {"contact_depth"};
   auto& at = Header.attributes;
   at["time_step"] = Options.timeStep;
   at["frame_interval"] = Options.frameInterval;
@@ -289,16 +288,15 @@ Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationO
 {
   // Measured with hair_study scene (200 and 400 wavy strands of 10, 50 and 100 elements, two
   // frames, maximum resident memory): the Super-Helix model takes about 2.6 kB per element,
-  // the projective one 0.7 kB per segment; a frame's point takes its position and velocity
-  // and a few per-point scalars, about 80 bytes.
+  // the projective one 0.7 kB per segment; a frame keeps per node its position, velocity
+  // and depth and per element its coordinates and rates, under 80 bytes per node.
   const bool superHelix = options.model == ModelType::SuperHelix;
   const double perElement = superHelix ? 2600 : 700, perPoint = 80;
-  const int per = superHelix ? std::max(1, options.superHelix.pointsPerElement) : 1;
   double elements = 0, points = 0;
   for (const GuideStrand& g : strands)
   {
     elements += g.elements;
-    points += double(g.elements) * per + 1;
+    points += double(g.elements) + 1;
   }
   const double need = elements * perElement + 2 * points * perPoint;
   if (need <= 0.75 * availableBytes)
@@ -317,7 +315,7 @@ Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationO
     << " elements would need about " << gb(need) << " of memory to start (the model, "
     << gb(elements * perElement) << ", and its first frame of " << points << " points), more "
     << "than three quarters of this machine's " << gb(availableBytes)
-    << ": use fewer strands, fewer elements or fewer points per element.";
+    << ": use fewer strands or fewer elements.";
   return Status::Error(m.str());
 }
 
@@ -499,6 +497,16 @@ bool Simulation::hasFrameData(int index) const
 Status Simulation::readFrame(int index, StateFrame& out) const
 {
   return P->Store.read(index, out);
+}
+
+Status Simulation::drawFrame(int index, int pointsPerElement, GuideDrawing& out) const
+{
+  StateFrame frame;
+  if (Status s = readFrame(index, frame); !s)
+  {
+    return s;
+  }
+  return drawGuides(piece(), frame, pointsPerElement, P->Options.threads, out);
 }
 
 double Simulation::bytesPerFrame() const

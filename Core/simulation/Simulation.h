@@ -11,6 +11,7 @@
 #include "scene/Scene.h"
 #include "simulation/FrameStore.h"
 #include "simulation/GhostStrands.h"
+#include "simulation/GuideDrawing.h"
 #include "strands/GuideStrand.h"
 #include "superhelix/SuperHelixModel.h"
 
@@ -61,9 +62,10 @@ struct SimulationTimings
   double storeWall = 0, storeCpu = 0;
 };
 
-/// Which rank steps each of `guides` under `model` shared among `ranks` ranks: recursive
-/// coordinate bisection of the roots weighted by model.stepCost (common/Partition.h), so
-/// that each rank's strands are a compact patch of the scalp and their steps cost the same.
+/// Which rank steps each of `guides` under `model` shared among `ranks` ranks: the roots'
+/// Hilbert curve cut into ranges weighted by model.stepCost (common/Partition.h), so that
+/// each rank's strands are a compact patch of the scalp, their steps cost the same, and,
+/// for guides numbered along the curve as grown guides are, their numbers are consecutive.
 std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
                               int ranks);
 /// Refuses a run whose model and first frame would need more than three quarters of
@@ -111,6 +113,10 @@ public:
   /// Frame `index` whole, from memory or from the state file (under MPI this rank's piece;
   /// collective when the frame has left memory).
   Status readFrame(int index, StateFrame& out) const;
+  /// Frame `index` drawn at `pointsPerElement` Super-Helix points per element (drawGuides:
+  /// the projective model's nodes whatever it says), from memory or the state file (under
+  /// MPI this rank's piece; collective when the frame has left memory).
+  Status drawFrame(int index, int pointsPerElement, GuideDrawing& out) const;
   /// The header of this rank's strands (piece().strandIds: their numbers in the run); the
   /// whole run's header() without MPI.
   const StateHeader& piece() const;

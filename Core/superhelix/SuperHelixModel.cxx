@@ -56,10 +56,6 @@ Status SuperHelixOptions::validate() const
          "steps may add per second of simulated time, e.g. 5e-3.";
     return Status::Error(s.str());
   }
-  if (pointsPerElement < 1)
-  {
-    return Status::Error("at least one display point per element is needed.");
-  }
   if (Status s = contacts.validate(); !s)
   {
     return Status::Error("hair–body contacts: " + s.message());
@@ -553,16 +549,18 @@ void SuperHelixModel::describe(StateHeader& header) const
   const int n = Helices.empty() ? 0 : Helices[0].elementCount();
   header.model = name();
   header.coordinatesPerStrand = 3 * n;
+  // The frame's points are the elements' ends; every other point is drawn from q and the
+  // root when asked (simulation/GuideDrawing.h), so the file keeps these as a view.
+  header.singlePrecisionPoints = true;
   header.offsets.clear();
   std::int64_t first = 0;
   header.offsets.push_back(first);
   for (const SuperHelix& h : Helices)
   {
-    first += h.elementCount() * Options.pointsPerElement + 1;
+    first += h.elementCount() + 1;
     header.offsets.push_back(first);
   }
   auto& at = header.attributes;
-  at["points_per_element"] = Options.pointsPerElement;
   at["quadrature_tolerance"] = Options.quadratureTolerance;
   at["integrator"] = static_cast<int>(Options.integrator);
   at["tolerance"] = Options.tolerance;
@@ -608,57 +606,47 @@ void SuperHelixModel::describe(StateHeader& header) const
 
 void SuperHelixModel::writeFrame(StateFrame& f) const
 {
-  // Display points, their velocities, curvature and twist, drawn from q, q̇ and the root as
-  // a state file's frame is drawn again (drawSuperHelix), strand by strand on the run's
-  // threads into pre-sized arrays (each strand alone: the same values on any number of
-  // threads).
-  const int per = Options.pointsPerElement;
-  std::vector<std::size_t> first(Helices.size() + 1, 0);
-  std::size_t qSize = 0;
+  // The state (q, q̇, the root's pose and rates) and the elements' ends with their
+  // velocities, drawn from it as a state file's frame is drawn again (drawSuperHelix at one
+  // point per element), strand by strand on the run's threads into the frame's arrays
+  // (resized, not reallocated, when the frame is reused; each strand alone: the same values
+  // on any number of threads).
+  std::vector<std::size_t> first(Helices.size() + 1, 0), qFirst(Helices.size() + 1, 0);
   for (std::size_t k = 0; k < Helices.size(); ++k)
   {
-    first[k + 1] = first[k] + Helices[k].elementCount() * per + 1;
-    qSize += Helices[k].q().size();
+    first[k + 1] = first[k] + Helices[k].elementCount() + 1;
+    qFirst[k + 1] = qFirst[k] + std::size_t(Helices[k].q().size());
   }
-  const std::size_t points = first.back();
-  f.positions.resize(points);
-  f.velocities.resize(points);
-  std::vector<double>& curvature = f.pointData["curvature"];
-  std::vector<double>& twist = f.pointData["twist"];
-  curvature.resize(points);
-  twist.resize(points);
-  std::vector<RootState> roots(Helices.size());
+  const std::size_t strands = Helices.size();
+  f.positions.resize(first.back());
+  f.velocities.resize(first.back());
+  f.q.resize(qFirst.back());
+  f.qdot.resize(qFirst.back());
+  f.rootFrames.resize(strands * RootFrameValues);
+  f.rootVelocities.resize(strands * RootVelocityValues);
   parallelBlocks(
-      static_cast<std::int64_t>(Helices.size()), 16, Run.threads,
+      static_cast<std::int64_t>(strands), 16, Run.threads,
       [&](std::int64_t begin, std::int64_t end)
       {
         StrandPoints drawn;
+        std::vector<double> pose, rates;
         for (std::int64_t k = begin; k < end; ++k)
         {
           const SuperHelix& h = Helices[k];
-          roots[k] = h.rootState(h.time());
-          drawSuperHelix(h.spec().elementLengths, h.q().data(), h.qdot().data(), roots[k], per,
-                         drawn);
+          const RootState root = h.rootState(h.time());
+          drawSuperHelix(h.spec().elementLengths, h.q().data(), h.qdot().data(), root, 1, drawn);
           std::copy(drawn.positions.begin(), drawn.positions.end(), f.positions.begin() + first[k]);
           std::copy(drawn.velocities.begin(), drawn.velocities.end(),
                     f.velocities.begin() + first[k]);
-          std::copy(drawn.curvature.begin(), drawn.curvature.end(), curvature.begin() + first[k]);
-          std::copy(drawn.twist.begin(), drawn.twist.end(), twist.begin() + first[k]);
+          std::copy(h.q().data(), h.q().data() + h.q().size(), f.q.begin() + qFirst[k]);
+          std::copy(h.qdot().data(), h.qdot().data() + h.qdot().size(), f.qdot.begin() + qFirst[k]);
+          pose.clear();
+          rates.clear();
+          appendRoot(root, pose, rates);
+          std::copy(pose.begin(), pose.end(), f.rootFrames.begin() + k * RootFrameValues);
+          std::copy(rates.begin(), rates.end(), f.rootVelocities.begin() + k * RootVelocityValues);
         }
       });
-  f.q.clear();
-  f.qdot.clear();
-  f.rootFrames.clear();
-  f.rootVelocities.clear();
-  f.q.reserve(qSize);
-  f.qdot.reserve(qSize);
-  for (std::size_t k = 0; k < Helices.size(); ++k)
-  {
-    const SuperHelix& h = Helices[k];
-    f.q.insert(f.q.end(), h.q().data(), h.q().data() + h.q().size());
-    f.qdot.insert(f.qdot.end(), h.qdot().data(), h.qdot().data() + h.qdot().size());
-    appendRoot(roots[k], f.rootFrames, f.rootVelocities);
-  }
 }
 
 double SuperHelixModel::stepCost(const GuideStrand& g) const

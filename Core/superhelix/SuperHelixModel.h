@@ -37,11 +37,6 @@ const char* toString(HairHairSolver solver);
 
 struct SuperHelixOptions
 {
-  /// Points per element in the frames (drawn exactly on the helices, drawSuperHelix): what
-  /// the state file stores and the penetration measure counts. Hair Simulation sets it from
-  /// its Points Per Element (default 16); Core's callers keep 4, at which the studies' and
-  /// golden tests' figures are recorded.
-  int pointsPerElement = 4;
   /// A priori bound on each element's quadrature error (StrandSpec::quadratureTolerance, in
   /// [1e-15, 1e-2]). The default keeps the quadrature error far below the 1/30 s step's own;
   /// 1e-2 makes curled hair 5–10 % faster (docs/benchmarks.md).

@@ -5,7 +5,7 @@
 // docs/benchmarks.md ("Under MPI").
 //
 //   mpirun -np N build/Testing/bench_mpi_simulation <guides> <frames> <state.h5 | -> [threads]
-//   [points per element]
+//   [wavy | quadrants]
 //
 // Frame 0 and the first step (building the run, opening the file) are not timed. Rank 0
 // prints one line of JSON: each timed frame's wall time (between barriers), and per rank its
@@ -34,7 +34,7 @@ int main(int argc, char** argv)
   {
     if (world.rank() == 0)
     {
-      std::fprintf(stderr, "usage: %s guides frames state.h5|- [threads] [points per element]\n",
+      std::fprintf(stderr, "usage: %s guides frames state.h5|- [threads] [wavy|quadrants]\n",
                    argv[0]);
     }
     MPI_Finalize();
@@ -43,8 +43,7 @@ int main(int argc, char** argv)
   const int count = std::atoi(argv[1]), frames = std::atoi(argv[2]);
   const std::string state = argv[3];
   const int threads = argc > 4 ? std::atoi(argv[4]) : 1;
-  const int per = argc > 5 ? std::atoi(argv[5]) : 16;
-  const bool quadrants = argc > 6 && std::string(argv[6]) == "quadrants";
+  const bool quadrants = argc > 5 && std::string(argv[5]) == "quadrants";
 
   BundledBody body;
   std::vector<GuideStrand> guides;
@@ -67,7 +66,6 @@ int main(int argc, char** argv)
   SimulationOptions o;
   o.threads = threads;
   o.ranks = world;
-  o.superHelix.pointsPerElement = per;
   o.superHelix.contacts.enabled = true;
   StorageOptions storage;
   storage.stateFile = state == "-" ? "" : state;
@@ -117,9 +115,9 @@ int main(int argc, char** argv)
   const std::vector<double> all = world.gather(mine);
   if (world.rank() == 0)
   {
-    std::printf("{\"ranks\": %d, \"guides\": %d, \"threads\": %d, \"points_per_element\": %d, "
+    std::printf("{\"ranks\": %d, \"guides\": %d, \"threads\": %d, "
                 "\"build_s\": %.6f, \"points\": %lld, \"wall\": [",
-                world.size(), count, threads, per, build,
+                world.size(), count, threads, build,
                 static_cast<long long>(sim.header().numberOfPoints()));
     for (std::size_t i = 0; i < wall.size(); ++i)
     {

@@ -133,14 +133,14 @@ std::vector<std::vector<Eigen::Vector3d>> shakenGroom(const std::vector<GuideStr
   SimulationOptions o;
   o.model = model;
   o.threads = 2;
-  o.superHelix.pointsPerElement = 8;
   Simulation sim;
   EXPECT_TRUE(sim.initialize(guides, scene, o));
   EXPECT_TRUE(sim.advanceTo(16));
-  StateFrame f;
-  EXPECT_TRUE(sim.readFrame(15, f));
+  GuideDrawing drawn;
+  EXPECT_TRUE(sim.drawFrame(15, 8, drawn));
+  const StateFrame& f = drawn.frame;
   std::vector<std::vector<Eigen::Vector3d>> curves;
-  const StateHeader& h = sim.header();
+  const StateHeader& h = drawn.header;
   for (std::size_t k = 0; k < h.numberOfStrands(); ++k)
   {
     curves.emplace_back(f.positions.begin() + h.offsets[k], f.positions.begin() + h.offsets[k + 1]);

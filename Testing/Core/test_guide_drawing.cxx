@@ -2,8 +2,8 @@
 // q and its root at any number of points per element lies on the rod SuperHelix reconstructs
 // (positions, velocities, frames); the material frame at every strand's root is the guide's
 // rest root frame turned by the head's motion, for both models, at rest and during a shake;
-// a state file redraws its frames at any resolution as the run draws them, and a file
-// without root poses reads at its stored points.
+// a version 3 state file (states and nodes) redraws its frames at any resolution as the run
+// draws them, for both models, and a file without root poses reads at its stored points.
 #include "io/StateFormat.h"
 #include "model/StrandPoints.h"
 #include "simulation/GuideDrawing.h"
@@ -203,12 +203,11 @@ TEST_P(FrameContract, TangentsFollowThePoints)
   const std::vector<GuideStrand> g = ringGuides(4, 10);
   SimulationOptions o;
   o.model = GetParam();
-  o.superHelix.pointsPerElement = 16;
   Simulation sim;
   ASSERT_TRUE(sim.initialize(g, shakeScene(true), o).ok());
   ASSERT_TRUE(sim.advanceTo(10).ok());
   GuideDrawing d;
-  ASSERT_TRUE(drawGuides(sim.header(), sim.frame(9), 0, 1, d).ok());
+  ASSERT_TRUE(sim.drawFrame(9, 16, d).ok());
   const double tol = GetParam() == ModelType::Projective ? 1e-12 : 0.1;
   for (std::size_t k = 0; k < g.size(); ++k)
   {
@@ -222,33 +221,36 @@ TEST_P(FrameContract, TangentsFollowThePoints)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(BothModels, FrameContract,
-                         ::testing::Values(ModelType::SuperHelix, ModelType::Projective),
-                         [](const auto& info) {
-                           return info.param == ModelType::SuperHelix ? "SuperHelix" : "Projective";
-                         });
-
-TEST(GuideDrawing, AStateFileRedrawsAtAnyResolutionAsTheRunDraws)
+TEST_P(FrameContract, AVersion3FileDrawsAsTheRunDraws)
 {
+  // The file keeps states (q, q̇, the roots) and the nodes; read back and drawn at any
+  // resolution it gives the run's own drawing bit for bit (the same numbers through the
+  // same code), and its nodes are the run's to single precision (the Super-Helix's are a
+  // view in float32: 2⁻²⁴ relative, 0.1 µm at 2 m) or exactly (the projective model's).
+  const ModelType model = GetParam();
+  const bool superHelix = model == ModelType::SuperHelix;
   const std::vector<GuideStrand> g = ringGuides(6, 10);
-  const Scene scene = shakeScene(true);
-  const std::string path = temp("drawing.h5");
-  SimulationOptions o4, o16;
-  o4.superHelix.pointsPerElement = 4;
-  o16.superHelix.pointsPerElement = 16;
+  const std::string path = temp(superHelix ? "v3-super-helix.h5" : "v3-projective.h5");
+  SimulationOptions o;
+  o.model = model;
   StorageOptions storage;
   storage.stateFile = path;
-  Simulation run4, run16;
-  ASSERT_TRUE(run4.initialize(g, scene, o4, storage).ok());
-  ASSERT_TRUE(run16.initialize(g, scene, o16).ok());
-  ASSERT_TRUE(run4.advanceTo(12).ok());
-  ASSERT_TRUE(run16.advanceTo(12).ok());
+  storage.replaceStateFile = true;
+  Simulation run;
+  ASSERT_TRUE(run.initialize(g, shakeScene(true), o, storage).ok());
+  ASSERT_TRUE(run.advanceTo(12).ok());
 
   StateFileReader file;
   ASSERT_TRUE(file.open(path).ok());
+  EXPECT_EQ(file.version(), stateformat::Version);
   const StateHeader& h = file.header();
   EXPECT_TRUE(h.rootFrames);
-  EXPECT_EQ(h.attributes.at("points_per_element"), 4);
+  EXPECT_EQ(h.singlePrecisionPoints, superHelix);
+  EXPECT_EQ(h.offsets, run.header().offsets);
+  EXPECT_EQ(h.pointData, std::vector<std::string>{"contact_depth"});
+  // The model's nodes, not display points: element ends, segment ends.
+  const std::int64_t nodes = superHelix ? 11 : h.coordinatesPerStrand / 2 + 1;
+  EXPECT_EQ(h.offsets[1], nodes);
   // The guides as grown, so that a study can run them again from the file.
   for (const StrandVector& v : strandVectors())
   {
@@ -258,35 +260,59 @@ TEST(GuideDrawing, AStateFileRedrawsAtAnyResolutionAsTheRunDraws)
       EXPECT_EQ(h.strandVectors.at(v.file)[k], v.get(g[k])) << v.file;
     }
   }
-  double worst = 0;
+  double nodeError = 0;
   for (int f = 0; f < 12; ++f)
   {
     StateFrame stored;
     ASSERT_TRUE(file.readFrame(f, stored).ok());
-    // At the stored resolution the drawing is the run's own frame, bit for bit.
-    GuideDrawing same;
-    ASSERT_TRUE(drawGuides(h, stored, 0, 2, same).ok());
-    ASSERT_EQ(same.frame.positions, run4.frame(f).positions);
-    ASSERT_EQ(same.frame.velocities, run4.frame(f).velocities);
-    // At 16 per element, the run at 16: the same q and roots drawn by the same code.
-    GuideDrawing fine, run;
-    ASSERT_TRUE(drawGuides(h, stored, 16, 2, fine).ok());
-    ASSERT_TRUE(drawGuides(run16.header(), run16.frame(f), 0, 1, run).ok());
-    ASSERT_EQ(fine.header.offsets, run16.header().offsets);
-    ASSERT_EQ(fine.frame.positions.size(), std::size_t(6 * 161));
-    for (std::size_t i = 0; i < fine.frame.positions.size(); ++i)
+    const StateFrame& own = run.frame(f);
+    EXPECT_EQ(stored.q, own.q);
+    EXPECT_EQ(stored.qdot, own.qdot);
+    EXPECT_EQ(stored.rootFrames, own.rootFrames);
+    EXPECT_EQ(stored.pointData.at("contact_depth"), own.pointData.at("contact_depth"));
+    for (std::size_t i = 0; i < own.positions.size(); ++i)
     {
-      worst = std::max(worst, (fine.frame.positions[i] - run16.frame(f).positions[i]).norm());
-      worst = std::max(worst, (fine.directors[i] - run.directors[i]).norm());
+      const double scale = std::max(1.0, own.positions[i].norm());
+      nodeError = std::max(nodeError, (stored.positions[i] - own.positions[i]).norm() / scale);
     }
-    EXPECT_EQ(fine.frame.pointData.at("curvature"), run16.frame(f).pointData.at("curvature"));
-    // contact_depth is measured at the stored points: interpolated between them.
-    EXPECT_EQ(fine.frame.pointData.at("contact_depth").size(), fine.frame.positions.size());
+    for (int per : {1, 4, 16})
+    {
+      GuideDrawing fromFile, fromRun;
+      ASSERT_TRUE(drawGuides(h, stored, per, 2, fromFile).ok());
+      ASSERT_TRUE(run.drawFrame(f, per, fromRun).ok());
+      EXPECT_TRUE(fromFile.warning.empty()) << fromFile.warning;
+      const std::size_t points = g.size() * std::size_t(superHelix ? 10 * per + 1 : nodes);
+      ASSERT_EQ(fromFile.frame.positions.size(), points);
+      ASSERT_EQ(fromFile.header.offsets, fromRun.header.offsets);
+      if (superHelix)
+      {
+        ASSERT_EQ(fromFile.frame.positions, fromRun.frame.positions) << "frame " << f;
+        ASSERT_EQ(fromFile.frame.velocities, fromRun.frame.velocities) << "frame " << f;
+      }
+      else
+      {
+        // Drawn at the stored nodes: float64 in the file.
+        ASSERT_EQ(fromFile.frame.positions, own.positions);
+        ASSERT_EQ(fromFile.frame.velocities, own.velocities);
+      }
+      ASSERT_EQ(fromFile.tangents, fromRun.tangents);
+      ASSERT_EQ(fromFile.directors, fromRun.directors);
+      for (const char* name : {"curvature", "twist", "contact_depth"})
+      {
+        ASSERT_EQ(fromFile.frame.pointData.at(name), fromRun.frame.pointData.at(name)) << name;
+      }
+    }
   }
-  EXPECT_LT(worst, 1e-15);
-  RecordProperty("largest_difference_reader_16_run_16", figure(worst));
+  EXPECT_LE(nodeError, superHelix ? std::ldexp(1.0, -24) : 0.0);
+  RecordProperty("largest_node_difference_file_run_relative", figure(nodeError));
   std::remove(path.c_str());
 }
+
+INSTANTIATE_TEST_SUITE_P(BothModels, FrameContract,
+                         ::testing::Values(ModelType::SuperHelix, ModelType::Projective),
+                         [](const auto& info) {
+                           return info.param == ModelType::SuperHelix ? "SuperHelix" : "Projective";
+                         });
 
 TEST(GuideDrawing, AFileWithoutRootPosesReadsAtItsStoredPoints)
 {
@@ -297,8 +323,8 @@ TEST(GuideDrawing, AFileWithoutRootPosesReadsAtItsStoredPoints)
   ASSERT_TRUE(sim.advanceTo(3).ok());
   StateHeader old = sim.header();
   old.rootFrames = false;
+  old.singlePrecisionPoints = false;
   old.strandVectors.clear();
-  old.attributes.erase("points_per_element");
   const std::string path = temp("old.h5");
   {
     StateFileWriter w;
@@ -323,7 +349,7 @@ TEST(GuideDrawing, AFileWithoutRootPosesReadsAtItsStoredPoints)
     GuideDrawing d;
     ASSERT_TRUE(drawGuides(file.header(), stored, 16, 1, d).ok());
     EXPECT_NE(d.warning.find("no root poses"), std::string::npos) << d.warning;
-    EXPECT_EQ(d.frame.positions, sim.frame(f).positions); // 5 × 4 + 1 per strand, as stored
+    EXPECT_EQ(d.frame.positions, sim.frame(f).positions); // 5 + 1 per strand, as stored
     EXPECT_EQ(d.header.offsets, sim.header().offsets);
     EXPECT_TRUE(d.tangents.empty());
   }

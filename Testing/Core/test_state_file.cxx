@@ -2,6 +2,7 @@
 // following a writer, and files that are not state files. The reference for the layout is
 // docs/state-file.md (what h5py users read), checked here with HDF5's own C API.
 #include "io/StateFile.h"
+#include "simulation/GuideDrawing.h"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -266,7 +267,8 @@ TEST(StateFile, BadFramesAreRefusedAndEarlierFramesKept)
   bad = frame(h, 1);
   bad.velocities.pop_back();
   s = w.append(bad);
-  EXPECT_NE(s.message().find("expected 6 positions"), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("/frames/velocities: expected 18 values, got 15"), std::string::npos)
+      << s.message();
   bad = frame(h, 1);
   bad.energy["made_up"] = 1;
   EXPECT_FALSE(w.append(bad).ok());
@@ -383,4 +385,67 @@ TEST(StateFile, NothingButAStateFileIsWrittenOverAndThatOnlyWhenAsked)
   const Status replaced =
       again.create(state, h, {"residual"}, StateFileWriter::Existing::ReplaceStateFile);
   EXPECT_TRUE(replaced.ok()) << replaced.message();
+}
+
+TEST(StateFile, EarlierVersionsReadAsBefore)
+{
+  // Files written before format version 3 (Testing/Fuzz/corpus: version 1 by one writer, both
+  // models, at 4 points per element; version 2 by two ranks, at 2): they open, and drawn at
+  // their stored resolution they give back their stored points, velocities and curvature, as
+  // the reader showed them before (the Super-Helix's were drawn by the same code from the
+  // same q and roots; the projective model's are its nodes, its curvature the turning angle
+  // over the segment length, here over the chord: equal to round-off).
+  struct Fixture
+  {
+    const char* name;
+    int version;
+    std::size_t strands, points, frames;
+  };
+  for (const Fixture& x :
+       {Fixture{"v1-super-helix.h5", 1, 2, 9, 2}, Fixture{"v1-projective.h5", 1, 2, 3, 2},
+        Fixture{"v2-super-helix.h5", 2, 6, 21, 3}})
+  {
+    SCOPED_TRACE(x.name);
+    StateFileReader r;
+    const Status opened = r.open(std::string(HAIR_CORPUS_DIR) + "/" + x.name);
+    ASSERT_TRUE(opened.ok()) << opened.message();
+    EXPECT_EQ(r.version(), x.version);
+    EXPECT_EQ(r.numberOfFrames(), std::int64_t(x.frames));
+    const StateHeader& h = r.header();
+    ASSERT_EQ(h.numberOfStrands(), x.strands);
+    EXPECT_EQ(std::size_t(h.offsets[1]), x.points);
+    EXPECT_FALSE(h.singlePrecisionPoints);
+    EXPECT_TRUE(h.rootFrames);
+    for (std::int64_t f = 0; f < r.numberOfFrames(); ++f)
+    {
+      StateFrame stored;
+      ASSERT_TRUE(r.readFrame(f, stored).ok());
+      GuideDrawing same;
+      ASSERT_TRUE(drawGuides(h, stored, 0, 1, same).ok());
+      EXPECT_TRUE(same.warning.empty()) << same.warning;
+      ASSERT_EQ(same.frame.positions.size(), stored.positions.size());
+      EXPECT_EQ(same.frame.positions, stored.positions);
+      EXPECT_EQ(same.frame.velocities, stored.velocities);
+      const std::vector<double>& drawn = same.frame.pointData.at("curvature");
+      const std::vector<double>& kept = stored.pointData.at("curvature");
+      ASSERT_EQ(drawn.size(), kept.size());
+      for (std::size_t i = 0; i < kept.size(); ++i)
+      {
+        EXPECT_NEAR(drawn[i], kept[i], 1e-12 * std::max(1.0, std::abs(kept[i]))) << i;
+      }
+      // And at any other resolution (the Super-Helix), with every stored array.
+      GuideDrawing fine;
+      ASSERT_TRUE(drawGuides(h, stored, 16, 1, fine).ok());
+      for (const char* name : {"curvature", "twist", "contact_depth"})
+      {
+        EXPECT_EQ(fine.frame.pointData.at(name).size(), fine.frame.positions.size()) << name;
+      }
+    }
+    // A piece reads as the same strands of the whole frame.
+    StateFrame whole, piece;
+    ASSERT_TRUE(r.readFrame(1, whole).ok());
+    ASSERT_TRUE(r.readPiece(1, {1}, piece).ok());
+    ASSERT_EQ(piece.positions.size(), x.points);
+    EXPECT_EQ(piece.positions[0], whole.positions[x.points]);
+  }
 }

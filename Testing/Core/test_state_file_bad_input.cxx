@@ -491,10 +491,10 @@ TEST(StateFileBadInput, Version2WithoutAValidCountIsRefused)
                 "/whole_frames is " + std::to_string(Frames + 1) +
                     ", not a count of whole frames between 0 and the length of /time, " +
                     std::to_string(Frames));
-  const int three = 3;
+  const int four = 4;
   expectRefused(
-      edited("v3.h5", [&](hid_t f) { attribute(f, "format_version", H5T_NATIVE_INT, -1, &three); }),
-      "has state-file format version 3; this HairDynamics reads versions 1 and 2");
+      edited("v4.h5", [&](hid_t f) { attribute(f, "format_version", H5T_NATIVE_INT, -1, &four); }),
+      "has state-file format version 4; this HairDynamics reads versions 1, 2 and 3");
 }
 
 TEST(StateFileBadInput, APieceWithNaNIsRefused)

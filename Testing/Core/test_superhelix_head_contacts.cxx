@@ -140,7 +140,7 @@ struct FrameStats
 {
   double time = 0, max = 0, mean = 0, p95 = 0;
   long inside = 0, points = 0;
-  long insideRootElement = 0; ///< of `inside`, points on the first element (s ≤ ℓ)
+  long insideRootElement = 0; ///< of `inside`, nodes on the first element (s ≤ ℓ)
   double maxFree = 0;         ///< deepest point beyond the first element
 };
 
@@ -170,12 +170,14 @@ Status demoScene(bool contacts, std::vector<FrameStats>& stats, double& seconds)
     std::vector<double> d;
     FrameStats st;
     const std::vector<double>& depth = fr.pointData.at("contact_depth");
-    const int perStrand = 10 * o.superHelix.pointsPerElement + 1;
+    // The frame's points are the strands' nodes: 11 per guide, nodes 0 and 1 on the root
+    // element.
+    const int perStrand = 10 + 1;
     for (std::size_t i = 0; i < depth.size(); ++i)
       if (depth[i] > 0)
       {
         d.push_back(depth[i]);
-        if (static_cast<int>(i % perStrand) <= o.superHelix.pointsPerElement)
+        if (static_cast<int>(i % perStrand) <= 1)
           ++st.insideRootElement;
         else
           st.maxFree = std::max(st.maxFree, depth[i]);
@@ -199,8 +201,8 @@ Status demoScene(bool contacts, std::vector<FrameStats>& stats, double& seconds)
 
 TEST(SuperHelixHeadContacts, DemoHeadShakeScene)
 {
-  // Penetration statistics of the display points (41 per guide) inside the head or trunk
-  // table, per frame, with contacts and without.
+  // Penetration statistics of the nodes (11 per guide) inside the head or trunk table, per
+  // frame, with contacts and without.
   std::vector<FrameStats> on, off;
   double secondsOn = 0, secondsOff = 0;
   Status st = demoScene(true, on, secondsOn);

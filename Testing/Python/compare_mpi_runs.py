@@ -28,15 +28,16 @@ def check(condition, what):
 
 
 def whole_frames(f):
-    """The documented rule: /whole_frames in a file of format_version 2, else len(/time)."""
-    return int(f["whole_frames"][()]) if f.attrs["format_version"] == 2 else f["time"].shape[0]
+    """The documented rule: /whole_frames when the file has it (written by several ranks),
+    else the length of /time."""
+    return int(f["whole_frames"][()]) if "whole_frames" in f else f["time"].shape[0]
 
 
 def read(path):
-    # swmr=True opens both kinds: a version-1 file of one writer and a version-2 file of ranks.
+    # swmr=True opens both kinds: a file of one writer and a file of ranks.
     with h5py.File(path, "r", swmr=True) as f:
         T = whole_frames(f)
-        out = {"version": int(f.attrs["format_version"]), "T": T,
+        out = {"version": int(f.attrs["format_version"]), "T": T, "shared": "whole_frames" in f,
                "attrs": {k: f.attrs[k] for k in f.attrs if k != "format_version"},
                "time": f["time"][:T]}
         for group in ("strands", "frames", "energy"):
@@ -49,8 +50,9 @@ paths = sys.argv[1:4]
 runs = [read(p) for p in paths]
 one = runs[0]
 S = one["strands/offsets"].shape[0] - 1
-check([r["version"] for r in runs] == [1, 2, 2],
-      f"format versions {[r['version'] for r in runs]}: one writer 1, ranks together 2")
+check([r["version"] for r in runs] == [3, 3, 3] and [r["shared"] for r in runs] == [False, True, True],
+      f"format versions {[r['version'] for r in runs]}, /whole_frames {[r['shared'] for r in runs]}: "
+      "version 3, counted by /whole_frames when ranks write together")
 for n, r in zip((2, 4), runs[1:]):
     check(r["T"] == one["T"] and np.array_equal(r["time"], one["time"]),
           f"{n} ranks: the same {r['T']} whole frames at the same times")

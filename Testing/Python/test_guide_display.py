@@ -99,7 +99,8 @@ for model in ("Super-Helix", "Projective"):
               f"{model}: at {per} points per element, {expected[per]} points per strand "
               f"(got {out.GetNumberOfPoints() / 6:g})")
 
-    # The arrays, on the run and on the reader of a file stored at 8 drawn at 16.
+    # The arrays, on the run at 16 and on the reader at 16 of the file of the run drawn at 8
+    # (the file keeps states and nodes, whatever the run drew).
     sim = runs[16]
     reader = HairStateReader(FileName=os.path.join(tmp, f"{model}-8.h5"), PointsPerElement=16)  # noqa: F821
     worst = 0.0
@@ -111,7 +112,7 @@ for model in ("Super-Helix", "Projective"):
             x, y = array(a.GetPointData(), name), array(b.GetPointData(), name)
             worst = max(worst, np.abs(x - y).max() if x is not None and y is not None else np.inf)
         worst = max(worst, np.abs(points(a) - points(b)).max())
-    check(worst < 1e-12, f"{model}: the reader at 16 points per element of a file stored at 8 "
+    check(worst < 1e-12, f"{model}: the reader at 16 points per element of the run drawn at 8's file "
                          f"is the run at 16 (largest difference {worst:.2g})")
 
     for who, proxy in (("Hair Simulation", sim), ("Hair State Reader", reader)):
@@ -151,7 +152,7 @@ reader = HairStateReader(FileName=old, PointsPerElement=16)  # noqa: F821
 warnings = Warnings(reader)
 reader.UpdatePipeline(0.1)
 out = fetch(reader)
-check(out.GetNumberOfPoints() == 6 * 81, f"a file without root poses reads at its stored 81 points per strand "
+check(out.GetNumberOfPoints() == 6 * 11, f"a file without root poses reads at its stored 11 nodes per strand "
                                          f"(got {out.GetNumberOfPoints() / 6:g})")
 check(any("no root poses" in m for m in warnings.messages), f"with a warning saying why ({warnings.messages[:1]})")
 check(out.GetPointData().GetArray("Director1") is None, "and without material frames")

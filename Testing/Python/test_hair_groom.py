@@ -118,7 +118,7 @@ with h5py.File(state, "r", swmr=True) as f:
           "the state file has /groom/curve_offsets [13] and rest_coordinates [12, 30]")
     stored = f["groom/curve_points"][:]
     check(np.allclose(stored, np.concatenate(mine), rtol=0, atol=1e-15), "its curves are the groom")
-    check(f.attrs["format_version"] == 1, "format_version stays 1")
+    check(f.attrs["format_version"] == 3, "format_version 3 (the groom is optional and additive)")
 reader = HairStateReader(FileName=state)  # noqa: F821
 reader.UpdatePipeline(0.0)
 check(cell(fetch(reader), "RestShapeStatus") is not None, "Hair State Reader shows the reports")
