@@ -1,6 +1,7 @@
 #include "vtkHairStateReader.h"
 
 #include "HairConversion.h"
+#include "common/Machine.h"
 #include "io/StateFile.h"
 #include "simulation/GuideDrawing.h"
 
@@ -135,8 +136,12 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
     vtkErrorMacro(<< "Hair State Reader: " << read.message());
     return 0;
   }
+  // Drawn on every processor this process may use, or one per piece under MPI (the ranks
+  // share the machine); each strand alone, so the same points on any number.
   hair::GuideDrawing drawing;
-  if (hair::Status s = hair::drawGuides(header, state, this->PointsPerElement, 1, drawing); !s)
+  const int threads = pieces > 1 ? 1 : hair::availableProcessors();
+  if (hair::Status s = hair::drawGuides(header, state, this->PointsPerElement, threads, drawing);
+      !s)
   {
     vtkErrorMacro(<< "Hair State Reader: '" << this->FileName << "': " << s.message());
     return 0;
