@@ -5,7 +5,7 @@
 // docs/benchmarks.md ("Under MPI").
 //
 //   mpirun -np N build/Testing/bench_mpi_simulation <guides> <frames> <state.h5 | -> [threads]
-//   [wavy | quadrants]
+//   [wavy | quadrants] [nogrid]
 //
 // Frame 0 and the first step (building the run, opening the file) are not timed. Rank 0
 // prints one line of JSON: each timed frame's wall time (between barriers), and per rank its
@@ -34,7 +34,8 @@ int main(int argc, char** argv)
   {
     if (world.rank() == 0)
     {
-      std::fprintf(stderr, "usage: %s guides frames state.h5|- [threads] [wavy|quadrants]\n",
+      std::fprintf(stderr,
+                   "usage: %s guides frames state.h5|- [threads] [wavy|quadrants] [nogrid]\n",
                    argv[0]);
     }
     MPI_Finalize();
@@ -44,6 +45,7 @@ int main(int argc, char** argv)
   const std::string state = argv[3];
   const int threads = argc > 4 ? std::atoi(argv[4]) : 1;
   const bool quadrants = argc > 5 && std::string(argv[5]) == "quadrants";
+  const bool noGrid = argc > 6 && std::string(argv[6]) == "nogrid"; // hair–hair off
 
   BundledBody body;
   std::vector<GuideStrand> guides;
@@ -67,6 +69,7 @@ int main(int argc, char** argv)
   o.threads = threads;
   o.ranks = world;
   o.superHelix.contacts.enabled = true;
+  o.superHelix.hairHairEnabled = !noGrid;
   StorageOptions storage;
   storage.stateFile = state == "-" ? "" : state;
   storage.replaceStateFile = true;
