@@ -154,6 +154,10 @@ struct DatasetInfo
   bool simple = false;       ///< a simple dataspace (not null, not scalar)
   int filters = 0;           ///< filters in its pipeline (compression, …)
   hsize_t chunkValues = 0;   ///< values per chunk (0: not chunked)
+  /// A contiguous or compact dataset's storage holds exactly its values. False for one never
+  /// written or a damaged layout whose size disagrees with the dataspace (HDF5 1.10.8 reads
+  /// past its buffer then).
+  bool storageMatches = true;
 };
 /// False if the dataset's type, space or creation properties cannot be read.
 bool describe(hid_t dataset, DatasetInfo& info);

@@ -210,6 +210,10 @@ Status openArray(hid_t f, const std::string& path, int rank, bool integers, Hand
     return damaged(path + " has " + std::to_string(info.dims.size()) + " dimensions where " +
                    std::to_string(rank) + " are expected.");
   }
+  if (!info.storageMatches)
+  {
+    return damaged(path + ": the space it has in the file does not hold its values.");
+  }
   return Status::Ok();
 }
 

@@ -390,24 +390,26 @@ TEST(StateFile, NothingButAStateFileIsWrittenOverAndThatOnlyWhenAsked)
 TEST(StateFile, EarlierVersionsReadAsBefore)
 {
   // Files written before format version 3 (Testing/Fuzz/corpus: version 1 by one writer, both
-  // models, at 4 points per element; version 2 by two ranks, at 2): they open, and drawn at
+  // models, at 4 points per element; Testing/Fixtures/StateFiles: version 2 by two ranks, at
+  // 2): they open, and drawn at
   // their stored resolution they give back their stored points, velocities and curvature, as
   // the reader showed them before (the Super-Helix's were drawn by the same code from the
   // same q and roots; the projective model's are its nodes, its curvature the turning angle
   // over the segment length, here over the chord: equal to round-off).
   struct Fixture
   {
+    const char* dir;
     const char* name;
     int version;
     std::size_t strands, points, frames;
   };
-  for (const Fixture& x :
-       {Fixture{"v1-super-helix.h5", 1, 2, 9, 2}, Fixture{"v1-projective.h5", 1, 2, 3, 2},
-        Fixture{"v2-super-helix.h5", 2, 6, 21, 3}})
+  for (const Fixture& x : {Fixture{HAIR_CORPUS_DIR, "v1-super-helix.h5", 1, 2, 9, 2},
+                           Fixture{HAIR_CORPUS_DIR, "v1-projective.h5", 1, 2, 3, 2},
+                           Fixture{HAIR_STATE_FILES_DIR, "v2-super-helix.h5", 2, 6, 21, 3}})
   {
     SCOPED_TRACE(x.name);
     StateFileReader r;
-    const Status opened = r.open(std::string(HAIR_CORPUS_DIR) + "/" + x.name);
+    const Status opened = r.open(std::string(x.dir) + "/" + x.name);
     ASSERT_TRUE(opened.ok()) << opened.message();
     EXPECT_EQ(r.version(), x.version);
     EXPECT_EQ(r.numberOfFrames(), std::int64_t(x.frames));

@@ -804,3 +804,18 @@ TEST(StateFileBadInput, NoHdf5HandleIsLeftOpen)
   EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 1);
   H5Fclose(f);
 }
+
+TEST(StateFileBadInput, ADatasetWithoutItsValuesInTheFileIsRefused)
+{
+  // A contiguous dataset whose storage does not hold its values: here never written (HDF5
+  // allocates it late), as a damaged layout message may also say (the fuzzer's
+  // crash-compact-layout-size-zero: a compact layout of 0 bytes for 96, which HDF5 1.10.8
+  // read past its buffer). Refused before any value is read.
+  const hsize_t points = Strands * PerStrand;
+  expectRefused(
+      edited("unwritten-positions.h5",
+             [&](hid_t f) {
+               dataset(f, "/frames/positions", H5T_NATIVE_DOUBLE, {Frames, points, 3}, nullptr);
+             }),
+      "/frames/positions: the space it has in the file does not hold its values");
+}
