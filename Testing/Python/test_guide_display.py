@@ -1,5 +1,6 @@
 """pvpython: the guides as Hair Simulation and Hair State Reader draw them — Points Per
-Element sets the Super-Helix points per strand, the reader draws a file again at any
+Element sets the Super-Helix points per strand (and changing it does not run the simulation
+again), the reader draws a file again at any
 resolution as the run does, both give the material frame (Tangent, Director1) at every
 point and the rest root, scalp normal and growth direction per strand, the frame at each
 root is the guide's rest root frame at t = 0, and a file without root poses reads at its
@@ -98,6 +99,22 @@ for model in ("Super-Helix", "Projective"):
         check(out.GetNumberOfPoints() == 6 * expected[per],
               f"{model}: at {per} points per element, {expected[per]} points per strand "
               f"(got {out.GetNumberOfPoints() / 6:g})")
+
+    # Points Per Element is how a frame is drawn, not the run: changed, the frame is drawn
+    # again from the kept state, the state file (created when a run is built) is not made anew.
+    sim = runs[8]
+    path = os.path.join(tmp, f"{model}-8.h5")
+    made = os.stat(path).st_ino, os.stat(path).st_mtime_ns
+    sim.PointsPerElement = 4
+    sim.UpdatePipeline(0.3)
+    redrawn = fetch(sim).GetNumberOfPoints()
+    again = os.stat(path).st_ino, os.stat(path).st_mtime_ns
+    sim.PointsPerElement = 8
+    sim.UpdatePipeline(0.3)
+    check(redrawn == 6 * (41 if model == "Super-Helix" else 11) and again == made
+          and fetch(sim).GetNumberOfPoints() == 6 * expected[8],
+          f"{model}: changing Points Per Element draws the frame again ({redrawn / 6:g} points per "
+          f"strand at 4) without running the simulation again (the state file untouched: {again == made})")
 
     # The arrays, on the run at 16 and on the reader at 16 of the file of the run drawn at 8
     # (the file keeps states and nodes, whatever the run drew).
