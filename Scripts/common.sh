@@ -1,4 +1,6 @@
-# Sourced by demo.sh and test.sh: installs what is missing, then configures and builds.
+# Sourced by demo.sh and test.sh: installs what is missing, then configures and builds
+# (HAIR_TARGETS, set by the sourcing script: only those targets and what they need; unset:
+# everything, the tests and benchmarks included).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${HAIR_BUILD_DIR:-$ROOT/build}"
@@ -9,5 +11,6 @@ bash "$ROOT/Scripts/install-deps.sh"
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
 fi
-cmake --build "$BUILD" -j "$JOBS"
+# shellcheck disable=SC2086 # HAIR_TARGETS is a list of target names
+cmake --build "$BUILD" -j "$JOBS" ${HAIR_TARGETS:+--target $HAIR_TARGETS}
 PLUGIN="$BUILD/lib/paraview-5.11/plugins/HairDynamics/HairDynamics.so"
