@@ -4,10 +4,12 @@
 // interface that scripts depend on.
 #include "common/Ranks.h"
 #include "common/Status.h"
+#include "io/StateFormat.h"
 
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <cmath>
 
 #include <cstdint>
 #include <map>
@@ -156,6 +158,28 @@ struct FrameArray
   std::size_t width = 1;
   double* data = nullptr;
   std::size_t size = 0; ///< numbers held
+  /// The rows a frame of `h` has of it: one per point, or one per strand.
+  std::size_t rowsIn(const StateHeader& h) const
+  {
+    return perPoint ? h.numberOfPoints() : h.numberOfStrands();
+  }
+  /// Strand k's numbers in `data`, for a frame of `h`: the first one's index and their count.
+  std::pair<std::size_t, std::size_t> strandSpan(const StateHeader& h, std::size_t k) const
+  {
+    const std::size_t first = perPoint ? std::size_t(h.offsets[k]) : k;
+    const std::size_t rows = perPoint ? std::size_t(h.offsets[k + 1] - h.offsets[k]) : 1;
+    return {first * width, rows * width};
+  }
+  /// The index of the first number that is NaN or infinite; `size` when there is none.
+  std::size_t firstNonFinite() const
+  {
+    std::size_t i = 0;
+    while (i < size && std::isfinite(data[i]))
+    {
+      ++i;
+    }
+    return i;
+  }
 };
 
 /// Calls fn(FrameArray) for every array `header` says a frame has: the present fields of
@@ -293,7 +317,7 @@ void forEachArray(const StateHeader& header, StateFrame& frame, bool resize, Fn&
   for (const std::string& name : header.pointData)
   {
     FrameArray a;
-    a.name = "/frames/" + name;
+    a.name = stateformat::inGroup(stateformat::Frames, name);
     a.what = "'" + name + "' at point";
     auto it = frame.pointData.find(name);
     if (resize)

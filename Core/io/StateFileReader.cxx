@@ -797,17 +797,15 @@ static Status finishFrame(const Contents& r, const StateHeader& header, const st
   // rather than shown with points at NaN (which breaks the view's bounds and every filter
   // after it).
   std::string bad;
-  auto finite = [&](const double* v, std::size_t n, std::size_t per, const std::string& what)
-  {
-    for (std::size_t i = 0; bad.empty() && i < n; ++i)
-    {
-      if (!std::isfinite(v[i]))
-      {
-        bad = what + " " + std::to_string(i / per);
-      }
-    }
-  };
-  forEachArray(header, out, [&](const FrameArray& a) { finite(a.data, a.size, a.width, a.what); });
+  forEachArray(header, out,
+               [&](const FrameArray& a)
+               {
+                 const std::size_t i = a.firstNonFinite();
+                 if (bad.empty() && i < a.size)
+                 {
+                   bad = a.what + " " + std::to_string(i / a.width);
+                 }
+               });
   if (!bad.empty())
   {
     return Status::Error("the state file '" + path + "': frame " + std::to_string(index) +

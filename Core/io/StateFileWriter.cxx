@@ -521,23 +521,17 @@ Status checkFrame(const StateHeader& h, const std::map<std::string, Handle>& ene
                  {
                    return;
                  }
-                 const std::size_t want =
-                     (a.perPoint ? h.numberOfPoints() : h.numberOfStrands()) * a.width;
+                 const std::size_t want = a.rowsIn(h) * a.width;
                  if (a.size != want)
                  {
                    checked = Status::Error(where + a.name + ": expected " + std::to_string(want) +
                                            " values, got " + std::to_string(a.size) + ".");
-                   return;
                  }
-                 for (std::size_t i = 0; i < a.size; ++i)
+                 else if (a.firstNonFinite() < a.size)
                  {
-                   if (!std::isfinite(a.data[i]))
-                   {
-                     checked = Status::Error(where + "NaN or infinite values in " + a.name +
-                                             ": the frame is not written, the frames before it "
-                                             "are kept.");
-                     return;
-                   }
+                   checked = Status::Error(where + "NaN or infinite values in " + a.name +
+                                           ": the frame is not written, the frames before it "
+                                           "are kept.");
                  }
                });
   if (!checked)

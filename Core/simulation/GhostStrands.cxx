@@ -110,10 +110,8 @@ Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const 
     forEachArray(h, f,
                  [&](const FrameArray& a)
                  {
-                   const std::int64_t first = a.perPoint ? h.offsets[k] : std::int64_t(k);
-                   const std::int64_t rows =
-                       a.perPoint ? h.offsets[k + 1] - h.offsets[k] : std::int64_t(1);
-                   append(out, a.data + first * std::int64_t(a.width), std::size_t(rows) * a.width);
+                   const auto [first, count] = a.strandSpan(h, k);
+                   append(out, a.data + first, count);
                  });
   };
   std::unordered_map<std::int64_t, std::size_t> place; // own strand number -> index in `mine`
@@ -165,11 +163,8 @@ Status GhostStrands::exchange(const Ranks& ranks, const StateHeader& run, const 
       forEachArray(h, ghosts, false,
                    [&](const FrameArray& a)
                    {
-                     const std::int64_t first = a.perPoint ? h.offsets[k] : std::int64_t(k);
-                     const std::int64_t rows =
-                         a.perPoint ? h.offsets[k + 1] - h.offsets[k] : std::int64_t(1);
-                     ok = ok &&
-                          take(a.data + first * std::int64_t(a.width), std::size_t(rows) * a.width);
+                     const auto [first, count] = a.strandSpan(h, k);
+                     ok = ok && take(a.data + first, count);
                    });
       if (!ok)
       {

@@ -127,11 +127,6 @@ Status drawSuperHelices(const StateHeader& header, const StateFrame& frame, int 
   }
   f.pointData["curvature"].swap(curvature);
   f.pointData["twist"].swap(twist);
-  h.pointData = {};
-  for (const auto& [name, values] : f.pointData)
-  {
-    h.pointData.push_back(name);
-  }
   return Status::Ok();
 }
 
@@ -159,6 +154,11 @@ void drawProjective(const StateHeader& header, const StateFrame& frame, GuideDra
       curvature[i] = std::atan2(a.cross(b).norm(), a.dot(b)) / a.norm();
     }
   }
+}
+
+/// The drawn header names the drawn frame's per-point arrays (curvature and twist added).
+void namePointData(GuideDrawing& out)
+{
   out.header.pointData.clear();
   for (const auto& [name, values] : out.frame.pointData)
   {
@@ -199,7 +199,9 @@ Status drawGuides(const StateHeader& header, const StateFrame& frame, int points
   }
   if (header.model == SuperHelixName)
   {
-    return drawSuperHelices(header, frame, pointsPerElement, threads, out);
+    const Status drawn = drawSuperHelices(header, frame, pointsPerElement, threads, out);
+    namePointData(out);
+    return drawn;
   }
   bool nodes = header.model == ProjectiveName && c % 2 == 0 && c > 0;
   for (std::size_t k = 0; nodes && k < strands; ++k)
@@ -209,6 +211,7 @@ Status drawGuides(const StateHeader& header, const StateFrame& frame, int points
   if (nodes)
   {
     drawProjective(header, frame, out);
+    namePointData(out);
     return Status::Ok();
   }
   out.warning = "the model '" + header.model +
