@@ -101,8 +101,7 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << indent << "PointsPerElement: " << this->PointsPerElement << "\n"
      << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n"
      << indent << "QuadratureTolerance: " << this->QuadratureTolerance << "\n"
-     << indent
-     << "Integrator: " << (this->Integrator == SECOND_ORDER ? "second order" : "semi-implicit")
+     << indent << "Integrator: " << hair::toString(static_cast<hair::Integrator>(this->Integrator))
      << " tolerance " << this->Tolerance << " m/s\n"
      << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
@@ -401,8 +400,8 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.ranks = in.Ranks;
   hair::SuperHelixOptions& sh = o.superHelix;
   sh.quadratureTolerance = this->QuadratureTolerance;
-  sh.integrator = this->Integrator == SECOND_ORDER ? hair::Integrator::Midpoint
-                                                   : hair::Integrator::SemiImplicit;
+  // IntegratorType's values are hair::Integrator's.
+  sh.integrator = static_cast<hair::Integrator>(this->Integrator);
   sh.tolerance = this->Tolerance;
   sh.contacts.enabled = this->Contacts;
   sh.contacts.stiffness = this->ContactStiffness;

@@ -79,13 +79,15 @@ public:
   vtkSetMacro(NumberOfThreads, int);
   vtkGetMacro(NumberOfThreads, int);
   /// Super-Helix: the time step, hair::Integrator (SEMI_IMPLICIT: the paper's, SECOND_ORDER:
-  /// the guarded implicit midpoint rule).
+  /// the guarded implicit midpoint rule, BDF2: the guarded two-step backward differentiation
+  /// formula, second order in contact).
   enum IntegratorType
   {
     SEMI_IMPLICIT = 0,
-    SECOND_ORDER = 1
+    SECOND_ORDER = 1,
+    BDF2 = 2
   };
-  vtkSetClampMacro(Integrator, int, SEMI_IMPLICIT, SECOND_ORDER);
+  vtkSetClampMacro(Integrator, int, SEMI_IMPLICIT, BDF2);
   vtkGetMacro(Integrator, int);
   /// Super-Helix: accuracy on request, m per second of simulated time
   /// (hair::SuperHelixOptions::tolerance); 0: fixed steps. Checked against [0, 1].

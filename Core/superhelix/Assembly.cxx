@@ -46,14 +46,30 @@ Status SuperHelix::evaluateForces(Kinematics& k, double time)
   }
   if (Contacts)
   {
-    const std::vector<StrandSample>& smp = samples();
+    // BDF2: the hook answers for the step's start (HookSamples, HookTime), as it does for
+    // the semi-implicit step, and its linearization carries the response to the prediction
+    // of the step's end, where the step is evaluated: f − K (x* − xⁿ) − D (v* − vⁿ), the push
+    // less spring (x* − xⁿ). (The look-ahead and the surface's motion over the step in the
+    // body's response are the semi-implicit step's; asked at the prediction they would be
+    // counted twice.)
+    const std::vector<StrandSample>& smp = HookSamples ? *HookSamples : samples();
     std::vector<ContactResponse>& buffer = detail::stepWorkspace().ContactBuffer;
     buffer.assign(k.nodes.size(), ContactResponse());
-    Contacts(Spec.id, time, smp, buffer);
+    Contacts(Spec.id, HookSamples ? HookTime : time, smp, buffer);
     if (buffer.size() != k.nodes.size())
       return Status::Error("the contact hook changed the size of the response buffer (" +
                            std::to_string(buffer.size()) + " instead of " +
                            std::to_string(k.nodes.size()) + "); write one response per sample.");
+    if (HookSamples)
+      for (size_t i = 0; i < k.nodes.size(); ++i)
+      {
+        ContactResponse& c = buffer[i];
+        const Eigen::Vector3d dx = k.nodes[i].r - smp[i].position;
+        const Eigen::Vector3d dv = k.nodes[i].v - smp[i].velocity;
+        c.force -= c.stiffness * dx + c.damping * dv;
+        if (c.spring != 0)
+          c.push -= c.spring * dx;
+      }
     for (size_t i = 0; i < k.nodes.size(); ++i)
     {
       Node& nd = k.nodes[i];
@@ -112,8 +128,15 @@ void SuperHelix::assemble()
   //   f += c (medium − v) + push + (c − s/h) (v − v0) − h k v0,  s = (h c + h² k)/airScale,
   // which makes the step's force c (medium − v⁽ⁿ⁺¹⁾) + push − k h v⁽ⁿ⁺¹⁾ (ContactResponse).
   // Loads (the tension's) keep the physical force c (medium − v) + push.
+  // BDF2 (StepScheme; the samples are its prediction x*, v* of the step's end, M's vector q̇̂):
+  // the step's force c (medium − v⁽ⁿ⁺¹⁾) + push − k β (v⁽ⁿ⁺¹⁾ − v*) with M u = M q̇̂ counting
+  // s J q̇̂ too: f += c (medium − v) + push + (c + β k) (v − v0) − (s/β) J q̇̂.
   const double fold = FoldStep;
   const double airScale = 1 + fold * nu / RhoS;
+  const bool bdf = fold > 0 && StepScheme == Scheme::Bdf2;
+  thread_local std::vector<Eigen::Vector3d> hatVelocity;
+  if (bdf && contacts)
+    sampleVelocities(BdfHat, hatVelocity);
   // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
   // acts beyond every element: J(L)ᵀP = A_eᵀ (r(L) × P) + W_eᵀ P for every e.
   Eigen::Vector3d tailF = Spec.tipForce, tailT = k.tip.r0.cross(Spec.tipForce);
@@ -157,7 +180,10 @@ void SuperHelix::assemble()
         {
           const double s = (fold * c.drag + fold * fold * c.spring) / airScale;
           wm += nd.w * s;
-          fg += (c.drag - s / fold) * (nd.v - nd.v0) - (fold * c.spring) * nd.v0;
+          if (bdf)
+            fg += (c.drag + fold * c.spring) * (nd.v - nd.v0) - (s / fold) * hatVelocity[j];
+          else
+            fg += (c.drag - s / fold) * (nd.v - nd.v0) - (fold * c.spring) * nd.v0;
         }
       }
       loads[j] = f;

@@ -1,7 +1,7 @@
-// The implicit contact terms of the step (SuperHelix::addContactJacobians): backward Euler on
-// the contact hook's linearized response adds Σ w Jᵀ (h² K + h D) J to the step's matrix and
-// the matching terms to its right-hand side, from per-element moments of the samples in
-// contact and tail sums, O(N²) per strand plus O(1) per sample in contact.
+// The implicit contact terms of the step (SuperHelix::addContactJacobians): the contact hook's
+// linearized response adds Σ w Jᵀ (h² K + h D) J to the step's matrix (h: the step, or BDF2's
+// weight β) and the matching terms to its right-hand side, from per-element moments of the samples
+// in contact and tail sums, O(N²) per strand plus O(1) per sample in contact.
 #include "superhelix/SuperHelix.h"
 
 #include "superhelix/StepKernels.h"
@@ -16,10 +16,13 @@ namespace hair
 using detail::crossCols;
 using detail::stackedProductAdd;
 
-void SuperHelix::addContactJacobians(double h)
+void SuperHelix::addContactJacobians(double h, bool aboutPrediction)
 {
   // Backward Euler on the linearized contact force f − K h (v0 + J q̇ⁿ⁺¹) − D J (q̇ⁿ⁺¹ − q̇ⁿ):
   //   Lhs += Σ w Jᵀ S J,  S = h² K + h D,  Rhs += Σ w Jᵀ b,  b = h D J q̇ⁿ − h² K v0.
+  // BDF2, about its prediction (x*, v* = v0 + J q̇*) of the step's end, where the step moves
+  // the sample by x − x* = β J (q̇ⁿ⁺¹ − q̇*): the force f − (β K + D) J (q̇ⁿ⁺¹ − q̇*), so
+  //   S = β² K + β D,  b = S J q̇* (h = β).
   // A sample of element e has J_p = −[r]× A_p + W_p = H(r) Z_p for p < e, with
   // H(r) = [−[r]×  I] (3 × 6) and Z_p = [A_p; W_p] (6 × 3), its own block J_e, and 0 past e.
   // So only per-element moments of the samples in contact are summed,
@@ -67,7 +70,7 @@ void SuperHelix::addContactJacobians(double h)
     if (nd.hasK)
     {
       S += (nd.w * h * h) * contactK;
-      b -= (nd.w * h * h) * (contactK * nd.v0);
+      b -= (nd.w * h * h) * (contactK * (aboutPrediction ? nd.v0 - nd.v : nd.v0));
     }
     if (nd.hasD)
     {

@@ -30,7 +30,7 @@ Status SuperHelix::beginStep(double h)
   // instead, endStep).
   Eigen::VectorXd qd;
   bool declined = false, solveFailed = false;
-  if (Status st = prepareStep(h, Time, false, qd, declined, solveFailed); !st)
+  if (Status st = prepareStep(h, Time, Scheme::SemiImplicit, qd, declined, solveFailed); !st)
     return st;
   endVelocities(qd, Pending.free);
   detail::StepWorkspace& ws = detail::stepWorkspace();
@@ -239,10 +239,11 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
   const bool none = samples.empty() && forces.empty() && response.size() == 0;
   // A strand without coupling forces takes the step its integrator asks for: with
   // Integrator::Midpoint the second-order one (itself semi-implicit where the strand touches
-  // the body); the semi-implicit step begun is what it would commit otherwise. (Its pairs were
+  // the body), with Integrator::Bdf2 BDF2; the semi-implicit step begun is what it would
+  // commit otherwise. (Its pairs were
   // searched along the semi-implicit step's motion; the detection's margin covers the
   // difference, docs/hair-hair-contacts.md.)
-  if (none && Spec.integrator == Integrator::Midpoint)
+  if (none && Spec.integrator != Integrator::SemiImplicit)
     return singleStep(Pending.h);
   if (!none && (forces.size() != samples.size() || response.size() != Q.size()))
     return Status::Error(
@@ -277,7 +278,8 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
   LastFirstOrder = 1; // the semi-implicit step
   Outcome outcome = Outcome::Committed;
   const Eigen::VectorXd qd = none ? Pending.qdot : Eigen::VectorXd(Pending.qdot + response);
-  return attemptStep(Pending.h, false, std::numeric_limits<double>::infinity(), outcome, &qd);
+  return attemptStep(Pending.h, Scheme::SemiImplicit, std::numeric_limits<double>::infinity(),
+                     outcome, &qd);
 }
 
 } // namespace hair

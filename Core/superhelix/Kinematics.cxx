@@ -345,4 +345,23 @@ void SuperHelix::fillWinds(double time)
   WindsValid = true;
 }
 
+void SuperHelix::sampleVelocities(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& out) const
+{
+  // J_P(s) = A_P × r(s) + W_P for the elements P before the sample's, its own block after.
+  out.resize(Cur.nodes.size());
+  Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
+  for (int e = 0; e < elementCount(); ++e)
+  {
+    const Element& el = Cur.elements[e];
+    const Eigen::Vector3d xe = x.segment<3>(3 * e);
+    for (int j = el.first; j < el.first + el.count; ++j)
+    {
+      const Node& nd = Cur.nodes[j];
+      out[j] = pa.cross(nd.r) + pw + nd.J * xe;
+    }
+    pa += el.A * xe;
+    pw += el.W * xe;
+  }
+}
+
 } // namespace hair

@@ -29,6 +29,12 @@ namespace
 // (midpoint steps err either way by O(h³)), so the scheme was first order; with 0.1 a step
 // gaining 10 % at a time let the strand's energy grow fivefold at 1/240 s; 0.01 declined
 // 9, 11, 9, 7 steps (1/30 … 1/240 s) and none from 1/1920 s on.
+// BDF2 takes the same guard: its one linearization about an extrapolated prediction can
+// create energy in a whip (the released frictionless strand at 1/240 s grew a millionfold
+// without it). A looser guard for BDF2 was measured and not kept: with 0.05 the demo scene
+// (200 guides, 2 s, tolerance 0.05 m/s) took 4 % of its sub-steps first order instead of
+// 16 % and closed its energy to 0.7 % instead of 6.3 %, but a smooth strand shaken at 3 Hz
+// at 1/30 s gained energy step by step past the stability bound (0.02 failed it too).
 constexpr double EnergyGuard = 0.01;
 } // namespace
 using detail::UnblockedLuMax;
@@ -49,7 +55,14 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
   // q̇_m − q̇ⁿ = ½ (q̇ⁿ⁺¹ − q̇ⁿ):
   // (M + ½hΓ + ¼h²(𝕂 + K_T) + ½h D_air − ½ h C) q̇ⁿ⁺¹
   //   = (M − ½h D_air − ½ h C + ¼h² K_T) q̇ⁿ + h (f − 𝕂 (q̃ − q_rest)) + (¼h² 𝕂 − ½hΓ) q̇ⁿ.
-  const bool midpoint = MidpointStep;
+  // BDF2 (while attemptStep takes one; h here is its weight β = hₙ (1 + ω)/(1 + 2ω)): the
+  // current state is the prediction (q*, q̇*) of the step's end, q* = q̂ + β q̇*, and the step
+  // qⁿ⁺¹ = q̂ + β q̇ⁿ⁺¹, M (q̇ⁿ⁺¹ − q̇̂) = β Φ(qⁿ⁺¹, q̇ⁿ⁺¹, tⁿ⁺¹) (q̂, q̇̂ from the history) is
+  // linearized about it with qⁿ⁺¹ − q* = β (q̇ⁿ⁺¹ − q̇*) and the whole C (a Newton step):
+  // (M + βΓ + β²(𝕂 + K_T) + β D_air − β C) q̇ⁿ⁺¹
+  //   = M q̇̂ + (β² K_T − β C) q̇* + β (f − 𝕂 (q* − q_rest)) + β² 𝕂 q̇*.
+  const bool midpoint = StepScheme == Scheme::Midpoint;
+  const bool bdf = StepScheme == Scheme::Bdf2;
   const double hv = midpoint ? 0.5 * h : h;          // weight of the velocity terms
   const double hk = midpoint ? 0.25 * h * h : h * h; // weight of the stiffness terms
   const double nu = Spec.hair.airFriction;
@@ -67,17 +80,23 @@ Status SuperHelix::solve(double h, Eigen::VectorXd& qdotNext)
     Rhs.array() += (hk * Kdiag.array() - hv * Gdiag.array()) * Qdot.array();
     u = (1 - hv * nu / RhoS) * Qdot;
   }
+  else if (bdf)
+  {
+    Rhs.array() += hk * Kdiag.array() * Qdot.array();
+    u = BdfHat;
+  }
   // (The semi-implicit step's factor in the order it always had: the same bits.)
   const double airScale = midpoint ? 1 + hv * nu / RhoS : 1 + h * nu / RhoS;
+  const bool withVector = midpoint || bdf;
   // Lhs and the right-hand side's (M − ½ h C) q̇ⁿ (semi-implicit) or
   // M u + (¼h² K_T − ½ h C) q̇ⁿ (midpoint) in one pass over M, C and K_T.
   if (!formStepSystem(Lhs.data(), Rhs.data(), M.data(), C.data(), Kt.data(), Qdot.data(), m,
-                      airScale, 0.5 * h, hk, midpoint ? u.data() : nullptr, hk))
+                      airScale, bdf ? h : 0.5 * h, hk, withVector ? u.data() : nullptr, hk))
     return Status::Error("the step's matrix (mass matrix, velocity Jacobian or tension "
                          "stiffness) is not finite. Check the root motion and forces");
   Lhs.diagonal() += hv * Gdiag + hk * Kdiag;
   if (ContactsSet) // else no sample has a contact stiffness or damping: skip the pass
-    addContactJacobians(h);
+    addContactJacobians(h, bdf);
   const double scale = Lhs.diagonal().cwiseAbs().maxCoeff();
   if (m > UnblockedLuMax)
   {
@@ -140,7 +159,25 @@ Status SuperHelix::singleStep(double h, double acceptLimit, bool& rejected)
   if (!st)
     return st;
   Outcome outcome = Outcome::Committed;
-  if (Spec.integrator == Integrator::Midpoint)
+  // BDF2 from the second step on, while the step ratio keeps it zero-stable (ω < 1 + √2);
+  // declined (it would create energy, a failed solve or a blow-up), the semi-implicit step is
+  // taken instead. Unlike the midpoint step's, its attempts do not back off after a declined
+  // one: measured (BM_IntegratorSideBySide, the 3 Hz shake) the back-off saved 3–11 % of the
+  // time but took 7–13 % more of the steps first order, and on the demo's head (tolerance
+  // 0.05 m/s) it moved the first-order share from 0.16 to 0.22 for the same error and a wall
+  // time within the noise.
+  if (Spec.integrator == Integrator::Bdf2 && HasPrevious && h <= MaxBdfRatio * PreviousStep)
+  {
+    st = attemptStep(h, Scheme::Bdf2, acceptLimit, outcome);
+    if (!st)
+      return st;
+    if (outcome != Outcome::Declined)
+    {
+      rejected = outcome == Outcome::Rejected;
+      return st;
+    }
+  }
+  else if (Spec.integrator == Integrator::Midpoint)
   {
     // The second-order step, unless recent attempts were declined (then the next few steps
     // are semi-implicit without trying: each attempt costs the predicted midpoint's
@@ -149,7 +186,7 @@ Status SuperHelix::singleStep(double h, double acceptLimit, bool& rejected)
       --MidpointSkip;
     else
     {
-      st = attemptStep(h, true, acceptLimit, outcome);
+      st = attemptStep(h, Scheme::Midpoint, acceptLimit, outcome);
       if (!st)
         return st;
       if (outcome != Outcome::Declined)
@@ -163,17 +200,20 @@ Status SuperHelix::singleStep(double h, double acceptLimit, bool& rejected)
       MidpointSkip = MidpointBackoff - 1;
     }
   }
-  st = attemptStep(h, false, acceptLimit, outcome);
+  st = attemptStep(h, Scheme::SemiImplicit, acceptLimit, outcome);
   rejected = outcome == Outcome::Rejected;
   if (st && outcome == Outcome::Committed)
     LastFirstOrder = 1;
   return st;
 }
 
-Status SuperHelix::prepareStep(double h, double t0, bool midpoint, Eigen::VectorXd& qdN,
+Status SuperHelix::prepareStep(double h, double t0, Scheme scheme, Eigen::VectorXd& qdN,
                                bool& declined, bool& solveFailed)
 {
   declined = solveFailed = false;
+  const bool midpoint = scheme == Scheme::Midpoint;
+  // The weight of the step's implicit terms: h, or BDF2's β.
+  const double weight = scheme == Scheme::Bdf2 ? BdfWeight : h;
   const double t1 = t0 + h;
   Status st = evaluateForces(Cur, Time);
   if (!st)
@@ -188,26 +228,27 @@ Status SuperHelix::prepareStep(double h, double t0, bool midpoint, Eigen::Vector
         declined = true;
         return Status::Ok();
       }
-  FoldStep = midpoint ? 0 : h; // the far field's drag and spring into M (assemble())
+  FoldStep = midpoint ? 0 : weight; // the far field's drag and spring into M (assemble())
   assemble();
   FoldStep = 0;
   assembleVelocityJacobian();
-  assembleTensionStiffness(h);
+  assembleTensionStiffness(weight);
   if (!F.allFinite())
     return Status::Error(where(t0, t1) +
                          "the generalized forces are not finite; the previous state is kept. "
                          "Check the root motion and forces.");
-  st = solve(h, qdN);
+  st = solve(midpoint ? h : weight, qdN);
   solveFailed = !st;
   if (!st)
     return Status::Error(where(t0, t1) + st.message() + "; the previous state is kept.");
   return Status::Ok();
 }
 
-Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome,
+Status SuperHelix::attemptStep(double h, Scheme scheme, double acceptLimit, Outcome& outcome,
                                const Eigen::VectorXd* coupled)
 {
   outcome = Outcome::Committed;
+  const bool midpoint = scheme == Scheme::Midpoint, bdf = scheme == Scheme::Bdf2;
   const double t0 = Time, t1 = Time + h;
   if (!CurValid)
     reconstruct();
@@ -216,21 +257,28 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
   struct EndOfStep
   {
     bool& contactsSet;
-    bool& midpointStep;
+    Scheme& scheme;
+    const std::vector<StrandSample>*& hookSamples;
     ~EndOfStep()
     {
       contactsSet = false;
-      midpointStep = false;
+      scheme = Scheme::SemiImplicit;
+      hookSamples = nullptr;
     }
-  } endOfStep{ContactsSet, MidpointStep};
-  MidpointStep = midpoint;
+  } endOfStep{ContactsSet, StepScheme, HookSamples};
+  StepScheme = scheme;
   // Where the step is evaluated: the semi-implicit step at the start (Cur); the midpoint
   // step at the predicted midpoint q̃ = qⁿ + h/2 q̇ⁿ, t + h/2, with the velocity q̇ⁿ, which
   // becomes the current state (Q, Time, Cur) while the step is assembled and solved; the
   // start's kinematics wait in `start` and come back if the step is not committed.
+  // BDF2 at its prediction of the step's end, tⁿ⁺¹: with ω = hₙ / hₙ₋₁ and the history
+  // q̂ = qⁿ + a (qⁿ − qⁿ⁻¹), q̇̂ likewise (a = ω²/(1 + 2ω)), the velocity extrapolated,
+  // q̇* = q̇ⁿ + ω (q̇ⁿ − q̇ⁿ⁻¹), and q* = q̂ + β q̇*; its error is O(h³), so the step's
+  // linearization about it keeps the second order whatever the approximations in K_T.
   thread_local Kinematics start;
-  thread_local Eigen::VectorXd q0;
+  thread_local Eigen::VectorXd q0, qd0, qHat;
   q0 = Q;
+  qd0 = Qdot;
   double tEval = t0;
   if (midpoint)
   {
@@ -242,13 +290,50 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
     newCurId();
     WindsValid = false;
   }
+  else if (bdf)
+  {
+    const double omega = h / PreviousStep;
+    const double a = omega * omega / (1 + 2 * omega);
+    BdfWeight = h * (1 + omega) / (1 + 2 * omega);
+    qHat = q0 + a * (q0 - PreviousQ);
+    BdfHat = qd0 + a * (qd0 - PreviousQdot);
+    // The prediction's kinematics, then where its samples' material points are now (the
+    // contact hook's samples); then the prediction becomes the current state.
+    thread_local Kinematics predicted;
+    thread_local Eigen::VectorXd qdStar;
+    thread_local std::vector<double> arcs;
+    thread_local std::vector<StrandSample> atStart;
+    qdStar = qd0 + omega * (qd0 - PreviousQdot);
+    kinematics(qHat + BdfWeight * qdStar, qdStar, rootState(t1), t1, predicted);
+    if (Contacts)
+    {
+      arcs.resize(predicted.nodes.size());
+      for (size_t j = 0; j < arcs.size(); ++j)
+        arcs[j] = Starts[predicted.nodes[j].element] + predicted.nodes[j].u;
+      materialPoints(arcs, false, atStart);
+      for (size_t j = 0; j < arcs.size(); ++j)
+        atStart[j].weight = predicted.nodes[j].w;
+      HookSamples = &atStart;
+      HookTime = t0;
+    }
+    std::swap(Cur, start);
+    std::swap(Cur, predicted);
+    Qdot = qdStar;
+    Q = qHat + BdfWeight * qdStar;
+    tEval = t1;
+    Time = tEval;
+    newCurId();
+    WindsValid = false;
+  }
+  const bool moved = midpoint || bdf;
   // Every return before the commit goes through here.
   auto keep = [&](Status s, Outcome o)
   {
     outcome = o;
-    if (midpoint)
+    if (moved)
     {
       Q = q0;
+      Qdot = qd0;
       Time = t0;
       std::swap(Cur, start);
       newCurId();
@@ -260,8 +345,8 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
   // step is taken instead (and reports its own error if it fails too).
   auto fail = [&](const std::string& message)
   {
-    return midpoint ? keep(Status::Ok(), Outcome::Declined)
-                    : keep(Status::Error(message), Outcome::Committed);
+    return moved ? keep(Status::Ok(), Outcome::Declined)
+                 : keep(Status::Error(message), Outcome::Committed);
   };
   // The step's velocities: solved here, or by a coupled step (endStep) from the forces,
   // assembly and solve of its beginStep.
@@ -272,7 +357,7 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
   else
   {
     bool declined = false, solveFailed = false;
-    st = prepareStep(h, t0, midpoint, qdN, declined, solveFailed);
+    st = prepareStep(h, t0, scheme, qdN, declined, solveFailed);
     if (declined)
       return keep(Status::Ok(), Outcome::Declined);
     if (solveFailed)
@@ -281,9 +366,9 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
       return keep(st, Outcome::Committed);
   }
   // The velocity of the step: qⁿ⁺¹ = qⁿ + h q̇_step (semi-implicit: q̇ⁿ⁺¹; midpoint:
-  // (q̇ⁿ + q̇ⁿ⁺¹)/2).
+  // (q̇ⁿ + q̇ⁿ⁺¹)/2); BDF2: qⁿ⁺¹ = q̂ + β q̇ⁿ⁺¹, its flows taken with q̇ⁿ⁺¹.
   const Eigen::VectorXd qdStep = midpoint ? Eigen::VectorXd(0.5 * (Qdot + qdN)) : qdN;
-  const Eigen::VectorXd qN = q0 + h * qdStep;
+  const Eigen::VectorXd qN = bdf ? Eigen::VectorXd(qHat + BdfWeight * qdN) : q0 + h * qdStep;
   if (!qN.allFinite() || !qdN.allFinite())
     return fail(where(t0, t1) +
                 "the step blew up (non-finite curvature); the previous state is kept. Reduce dt or "
@@ -312,13 +397,18 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
   // acceleration r̈ = a0 + J q̈, q̈ = (q̇ⁿ⁺¹ − q̇ⁿ)/h. The midpoint step: at the predicted
   // midpoint, a midpoint quadrature of each flow's power (second order, like the step); its
   // root work is written without a0, which the midpoint velocity would need (below).
+  // BDF2: at its prediction of tⁿ⁺¹ with q̇ⁿ⁺¹ and q̈ = (q̇ⁿ⁺¹ − q̇̂)/β, the contacts' force
+  // linearized about the prediction (the rectangle rule: its error over a run is h/2 times
+  // the change of each flow's power, not a sum over the steps).
   // The error estimate: the element ends' displacement by δq = h/2 (q̇ⁿ⁺¹ − q̇ⁿ), the first-
   // minus the second-order position update, through the tail Jacobians (J_P(s) = A_P × r(s)
-  // + W_P past element P).
+  // + W_P past element P). BDF2: its local error, −(qⁿ⁺¹ − q*)/3 = −β/3 (q̇ⁿ⁺¹ − q̇*) for every
+  // step ratio (the prediction's error is −2 times the step's, both O(h³) q⃛).
   EnergyTerms flow;
   double error = 0;
   {
-    const Eigen::VectorXd qdd = (qdN - Qdot) / h;
+    const Eigen::VectorXd qdd =
+        bdf ? Eigen::VectorXd((qdN - BdfHat) / BdfWeight) : Eigen::VectorXd((qdN - Qdot) / h);
     const double nu = Spec.hair.airFriction;
     const Eigen::Vector3d* const winds = Spec.windField ? Winds.data() : nullptr;
     const ContactResponse* const contacts =
@@ -353,15 +443,19 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
           if (nd.hasF)
             fc = contacts[j].force;
           if (nd.hasK)
-            fc -= h * (contacts[j].stiffness * vt);
+            fc -= bdf ? Eigen::Vector3d(BdfWeight * (contacts[j].stiffness * (vt - nd.v)))
+                      : Eigen::Vector3d(h * (contacts[j].stiffness * vt));
           if (nd.hasD)
             fc -= contacts[j].damping * (vt - nd.v);
           if (nd.hasField)
           {
-            // drag (medium − ṽ) + push − spring h ṽ, as assemble() folded it into the step.
+            // drag (medium − ṽ) + push − spring h ṽ (BDF2: spring β (ṽ − v*)), as assemble()
+            // folded it into the step.
             const ContactResponse& c = contacts[j];
             const Eigen::Vector3d slip = vt - c.medium;
-            const Eigen::Vector3d ff = c.push - c.drag * slip - (h * c.spring) * vt;
+            const Eigen::Vector3d ff = c.push - c.drag * slip -
+                                       (bdf ? Eigen::Vector3d((BdfWeight * c.spring) * (vt - nd.v))
+                                            : Eigen::Vector3d((h * c.spring) * vt));
             flow.fieldWork += h * nd.w * ff.dot(vt);
             flow.fieldDissipated += h * nd.w * c.drag * slip.squaredNorm();
             fc += ff;
@@ -385,7 +479,8 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
       pw += el.W * x;
       sa += el.A * y;
       sw += el.W * y;
-      const Eigen::Vector3d dq = (0.5 * h) * (qdN.segment<3>(3 * e) - Qdot.segment<3>(3 * e));
+      const Eigen::Vector3d dq =
+          (bdf ? BdfWeight / 3 : 0.5 * h) * (qdN.segment<3>(3 * e) - Qdot.segment<3>(3 * e));
       da += el.A * dq;
       dw += el.W * dq;
       const Eigen::Vector3d& end = e + 1 < elementCount() ? Cur.elements[e + 1].r0 : Cur.tip.r0;
@@ -402,6 +497,7 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
     flow.frictionDissipated = h * (Gdiag.array() * qdStep.array().square()).sum();
   }
   LastError = error;
+  LastErrorPower = bdf ? 3 : 2;
   if (error > acceptLimit)
     return keep(Status::Ok(), Outcome::Rejected);
 
@@ -419,10 +515,12 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
     return fail(where(t0, t1) + "the energy is not finite; the previous state is kept.");
   flow.residual = e1 - e0 - flow.rootWork - flow.windWork - flow.contactWork - flow.loadWork +
                   flow.frictionDissipated + flow.airDissipated;
-  // The energy guard of the second-order step (EnergyGuard): the midpoint rule is not
+  // The energy guard of the second-order steps (EnergyGuard): the midpoint rule is not
   // dissipative, and where the step does not resolve the motion (a whip, the 3 Hz shake at
-  // 1/30 s) its linearization can create energy without bound; such a step is declined.
-  if (midpoint)
+  // 1/30 s) its linearization can create energy without bound; BDF2 damps what it does not
+  // resolve when the system is linear, but its one linearization about an extrapolated
+  // prediction can create energy in a whip. Such a step is declined.
+  if (moved)
   {
     const double moved = Energy.kinetic + next.kinetic + std::abs(flow.rootWork) +
                          std::abs(flow.windWork) + std::abs(flow.contactWork) +
@@ -431,7 +529,11 @@ Status SuperHelix::attemptStep(double h, bool midpoint, double acceptLimit, Outc
       return keep(Status::Ok(), Outcome::Declined);
   }
 
-  // Commit.
+  // Commit; the step left becomes the history of the next.
+  PreviousQ = q0;
+  PreviousQdot = qd0;
+  PreviousStep = h;
+  HasPrevious = true;
   Q = qN;
   Qdot = qdN;
   Time = t1;
@@ -469,6 +571,7 @@ Status SuperHelix::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdo
   Q = q;
   Qdot = qdot;
   MidpointSkip = MidpointBackoff = 0;
+  HasPrevious = false;
   reconstruct();
   Energy.time = Time;
   Energy.kinetic = Cur.kinetic;
@@ -488,7 +591,9 @@ Status SuperHelix::advance(double dt, double tolerance)
   // accepted when e <= tolerance · h / dt, so that the accepted estimates add up to at most
   // `tolerance` over dt. e is the first-order update's local error, O(h²), so the ratio
   // r = e / (tolerance · h / dt) is O(h) and the next sub-step is h · 0.9 / r (at most
-  // doubled, at least a fifth). The sub-step carries over to the next advance().
+  // doubled, at least a fifth); BDF2's estimate is its own local error, O(h³), and the next
+  // sub-step h · 0.9 / √r. The sub-step carries over to the next advance(); with BDF2 it is
+  // at most MaxBdfRatio times the one before.
   const Eigen::VectorXd q0 = Q, qd0 = Qdot;
   const double t0 = Time;
   const EnergyReport en0 = Energy;
@@ -502,6 +607,8 @@ Status SuperHelix::advance(double dt, double tolerance)
     // The last sub-steps of the interval: one that reaches its end, or two equal ones
     // rather than a long one followed by a sliver.
     double hs = std::max(h, hMin);
+    if (Spec.integrator == Integrator::Bdf2 && HasPrevious)
+      hs = std::max(hMin, std::min(hs, MaxBdfRatio * PreviousStep));
     if (hs >= remaining * (1 - 1e-9))
       hs = remaining;
     else if (hs > 0.5 * remaining)
@@ -522,7 +629,7 @@ Status SuperHelix::advance(double dt, double tolerance)
       return st;
     }
     const double ratio = LastError / allowed;
-    const double grow = ratio > 0 ? 0.9 / ratio : 2.0;
+    const double grow = ratio > 0 ? 0.9 / (LastErrorPower == 3 ? std::sqrt(ratio) : ratio) : 2.0;
     if (rejected)
     {
       ++rejectedCount;

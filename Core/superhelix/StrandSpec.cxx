@@ -17,8 +17,20 @@ const char* toString(Integrator integrator)
     return "semi-implicit";
   case Integrator::Midpoint:
     return "midpoint";
+  case Integrator::Bdf2:
+    return "bdf2";
   }
   return "unknown";
+}
+
+Status checkIntegrator(Integrator integrator)
+{
+  if (integrator == Integrator::SemiImplicit || integrator == Integrator::Midpoint ||
+      integrator == Integrator::Bdf2)
+    return Status::Ok();
+  return Status::Error("integrator = " + std::to_string(static_cast<int>(integrator)) +
+                       " is not a time step; give 0 (semi-implicit, the paper's), 1 (midpoint, "
+                       "second order) or 2 (BDF2, second order in contact).");
 }
 
 StrandSpec StrandSpec::uniform(double length, int elements, const HairParameters& hair)
@@ -80,10 +92,8 @@ Status StrandSpec::validate() const
       << " is the accuracy of a fixed rule of four points per π/2 of turning.";
     return Status::Error(s.str());
   }
-  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
-    return Status::Error(who + "integrator = " + std::to_string(static_cast<int>(integrator)) +
-                         " is not a time step; give 0 (semi-implicit, the paper's) or 1 "
-                         "(midpoint, second order).");
+  if (Status st = checkIntegrator(integrator); !st)
+    return Status::Error(who + st.message());
   if (quadraturePoints != 0 && (quadraturePoints < 3 || quadraturePoints > MaxGaussPoints))
     return Status::Error(
         who + "quadraturePoints = " + std::to_string(quadraturePoints) +

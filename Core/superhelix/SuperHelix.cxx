@@ -123,6 +123,7 @@ Status SuperHelix::initialize(const StrandSpec& spec, double time)
   Initialized = true;
   MidpointSkip = MidpointBackoff = 0;
   NextSubstep = 0;
+  HasPrevious = false;
   kinematics(Q, Qdot, root, Time, Cur);
   newCurId();
   CurValid = true;

@@ -36,11 +36,20 @@ enum class Integrator
   /// at O(dt).
   SemiImplicit = 0,
   /// The implicit midpoint rule linearized once about the predicted midpoint
-  /// (q + dt/2 q̇, t + dt/2): second order; energy-neutral for the linear parts.
-  Midpoint = 1
+  /// (q + dt/2 q̇, t + dt/2): second order; energy-neutral for the linear parts. A strand
+  /// touching anything takes the semi-implicit step (a stiff contact would ring).
+  Midpoint = 1,
+  /// The two-step backward differentiation formula (BDF2, variable step) linearized once
+  /// about an extrapolated prediction of the step's end: second order and L-stable, so the
+  /// contacts' stiffness, damping and friction and the hair around are inside the step
+  /// (docs/super-helix.md, "BDF2"). Its embedded error estimate is the prediction's
+  /// distance from the result; the first step (after initialize or setState) is semi-implicit.
+  Bdf2 = 2
 };
-/// "semi-implicit", "midpoint" (state files, messages).
+/// "semi-implicit", "midpoint", "bdf2" (state files, messages).
 const char* toString(Integrator integrator);
+/// Whether `integrator` is one of Integrator's values; the message says which are.
+Status checkIntegrator(Integrator integrator);
 
 /// Everything that defines a strand before it moves.
 struct StrandSpec
@@ -306,6 +315,13 @@ private:
     bool rejected = false;
     return singleStep(h, std::numeric_limits<double>::infinity(), rejected);
   }
+  // The scheme one attempt takes (Integrator's, or the semi-implicit fallback).
+  enum class Scheme
+  {
+    SemiImplicit,
+    Midpoint,
+    Bdf2
+  };
   // Why a step attempt was not committed.
   enum class Outcome
   {
@@ -315,11 +331,12 @@ private:
   };
   // `coupled`: the step's velocities already solved (endStep: beginStep's with the coupling
   // forces' response); only the semi-implicit step is coupled.
-  Status attemptStep(double h, bool midpoint, double acceptLimit, Outcome& outcome,
+  Status attemptStep(double h, Scheme scheme, double acceptLimit, Outcome& outcome,
                      const Eigen::VectorXd* coupled = nullptr);
-  // Forces, assembly and solve of the step evaluated at the current state (the midpoint one
-  // once attemptStep has moved it there); `declined`: a midpoint step meeting a contact.
-  Status prepareStep(double h, double t0, bool midpoint, Eigen::VectorXd& qdotNext, bool& declined,
+  // Forces, assembly and solve of the step evaluated at the current state (the midpoint's or
+  // BDF2's prediction once attemptStep has moved it there); `declined`: a midpoint step
+  // meeting a contact.
+  Status prepareStep(double h, double t0, Scheme scheme, Eigen::VectorXd& qdotNext, bool& declined,
                      bool& solveFailed);
   void endVelocities(const Eigen::VectorXd& qdot, std::vector<StrandSample>& out) const;
   Status checkStep(double dt) const;
@@ -346,6 +363,28 @@ private:
   int MidpointSkip = 0, MidpointBackoff = 0;
   // advance(): the sub-step the controller would take next (0: none yet; dt at most).
   double NextSubstep = 0;
+  // The committed step before the current state (BDF2's history): q, q̇ at its start and its
+  // size; HasPrevious is false after initialize() and setState().
+  Eigen::VectorXd PreviousQ, PreviousQdot;
+  double PreviousStep = 0;
+  bool HasPrevious = false;
+  // A BDF2 step being taken: its weight β = h (1 + ω)/(1 + 2ω) (ω: the step ratio) and the
+  // history's velocity q̇̂ = q̇ⁿ + ω²/(1 + 2ω) (q̇ⁿ − q̇ⁿ⁻¹), the mass matrix's vector of its
+  // right-hand side (solve(), assemble()).
+  double BdfWeight = 0;
+  Eigen::VectorXd BdfHat;
+  // While a BDF2 step evaluates its forces: the contact hook is asked at the step's start
+  // (these samples, the prediction's material points where the strand is at tⁿ, and
+  // HookTime = tⁿ), whose response its own linearization carries to the prediction
+  // (evaluateForces). Null otherwise.
+  const std::vector<StrandSample>* HookSamples = nullptr;
+  double HookTime = 0;
+  // BDF2 is zero-stable for step ratios below 1 + √2; advance() grows its sub-steps at most
+  // by this factor, and a larger ratio takes the semi-implicit step.
+  static constexpr double MaxBdfRatio = 2;
+  // The power of h in LastError's leading term: 2 for the first-order difference, 3 for
+  // BDF2's local error (advance() sizes the next sub-step from it).
+  int LastErrorPower = 2;
 
   Kinematics Cur;
   bool CurValid = false;
@@ -382,14 +421,20 @@ private:
   // that the per-thread step workspace can tell whose loads it holds (SuperHelixInternal.h).
   std::uint64_t CurId = 0;
   void newCurId();
-  void addContactJacobians(double h); // implicit contact terms into the step's Lhs and Rhs
-  // The system solve() forms: the midpoint step's while one is being taken, else the
+  // Implicit contact terms into the step's Lhs and Rhs, for a step of weight h (BDF2: β);
+  // `aboutPrediction`: the samples are BDF2's prediction of the step's end (the contact is
+  // linearized about it), else the step's start.
+  void addContactJacobians(double h, bool aboutPrediction);
+  // The system solve() forms: the midpoint's or BDF2's while one is being taken, else the
   // semi-implicit step's.
-  bool MidpointStep = false;
-  // The step size h while a step assembles M: the contact responses' drag c and spring k
-  // (multiples of the identity) are folded into M's translational weights, ρS + (h c +
-  // h² k) / (1 + h ν/ρS), and their right-hand side into f (assemble()). 0 outside a step.
+  Scheme StepScheme = Scheme::SemiImplicit;
+  // The step size h (BDF2: β) while a step assembles M: the contact responses' drag c and
+  // spring k (multiples of the identity) are folded into M's translational weights,
+  // ρS + (h c + h² k) / (1 + h ν/ρS), and their right-hand side into f (assemble()). 0
+  // outside a step.
   double FoldStep = 0;
+  // J x at every sample of Cur (x: 3N coordinate velocities), from the tail Jacobians.
+  void sampleVelocities(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& out) const;
 };
 
 /// Steps every strand by dt on `threads` threads (common/Parallel.h; 1: the calling thread

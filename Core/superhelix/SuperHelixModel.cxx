@@ -42,11 +42,9 @@ Status SuperHelixOptions::validate() const
       << QuadratureChooser::MaxTolerance << " is the fastest.";
     return Status::Error(s.str());
   }
-  if (integrator != Integrator::SemiImplicit && integrator != Integrator::Midpoint)
+  if (Status st = checkIntegrator(integrator); !st)
   {
-    return Status::Error("the integrator " + std::to_string(static_cast<int>(integrator)) +
-                         " is not a time step: give 0 (semi-implicit, the paper's) or 1 "
-                         "(second order, midpoint).");
+    return st;
   }
   if (!(std::isfinite(tolerance) && tolerance >= 0))
   {

@@ -312,11 +312,15 @@ void BM_IntegratorSideBySide(benchmark::State& state)
   (void)warm.initialize(spec);
   for (int i = 0; i < 30; ++i)
     (void)warm.step(1.0 / 30);
-  SuperHelix start[2];
-  for (int way = 0; way < 2; ++way)
+  // The three steps: semi-implicit, midpoint, BDF2 (whose first step from the set state is
+  // semi-implicit: it has no history).
+  constexpr int Ways = 3;
+  const Integrator ways[Ways] = {Integrator::SemiImplicit, Integrator::Midpoint, Integrator::Bdf2};
+  SuperHelix start[Ways];
+  for (int way = 0; way < Ways; ++way)
   {
     StrandSpec s = spec;
-    s.integrator = way == 0 ? Integrator::SemiImplicit : Integrator::Midpoint;
+    s.integrator = ways[way];
     (void)start[way].initialize(s, warm.time());
     (void)start[way].setState(warm.q(), warm.qdot());
   }
@@ -324,14 +328,15 @@ void BM_IntegratorSideBySide(benchmark::State& state)
   // Per iteration the same 30 steps of each, in interleaved blocks of 10; the figure of an
   // integrator is its least time for the 30 over the iterations (a block-wise minimum would
   // favour the midpoint's blocks that skip the attempt after a declined step).
-  double best[2] = {1e30, 1e30};
-  long steps = 0, firstOrder = 0;
+  double best[Ways] = {1e30, 1e30, 1e30};
+  long steps = 0, firstOrder[Ways] = {0, 0, 0};
   for (auto _ : state)
   {
-    double cycle[2] = {0, 0};
-    SuperHelix h[2] = {start[0], start[1]};
+    double cycle[Ways] = {0, 0, 0};
+    SuperHelix h[Ways] = {start[0], start[1], start[2]};
     for (int block = 0; block < 3; ++block)
-      for (int way = 0; way < 2; ++way)
+    {
+      for (int way = 0; way < Ways; ++way)
       {
         int declined = 0;
         const auto t0 = Clock::now();
@@ -341,19 +346,20 @@ void BM_IntegratorSideBySide(benchmark::State& state)
           declined += h[way].lastFirstOrder();
         }
         cycle[way] += std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-        if (way == 1)
-        {
-          steps += 10;
-          firstOrder += declined;
-        }
+        firstOrder[way] += declined;
       }
-    for (int way = 0; way < 2; ++way)
+      steps += 10;
+    }
+    for (int way = 0; way < Ways; ++way)
       best[way] = std::min(best[way], cycle[way] / 30);
   }
   state.counters["semi_implicit_us"] = best[0];
   state.counters["midpoint_us"] = best[1];
   state.counters["ratio"] = best[1] / best[0];
-  state.counters["midpoint_first_order"] = double(firstOrder) / std::max(1L, steps);
+  state.counters["midpoint_first_order"] = double(firstOrder[1]) / std::max(1L, steps);
+  state.counters["bdf2_us"] = best[2];
+  state.counters["bdf2_ratio"] = best[2] / best[0];
+  state.counters["bdf2_first_order"] = double(firstOrder[2]) / std::max(1L, steps);
   state.SetLabel(toString(type));
 }
 

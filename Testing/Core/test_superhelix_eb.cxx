@@ -1,6 +1,7 @@
 // The Super-Helix model against Euler–Bernoulli beam theory (references in
 // docs/super-helix.md): cantilever frequencies f_n = (β_n L)² / (2π L²) · √(EI / ρS) with
 // β1 L = 1.8751041, β2 L = 4.6940911, and the static tip deflection ρ S g L⁴ / (8 E I).
+#include "IntegratorNames.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>
@@ -178,10 +179,10 @@ TEST_P(SuperHelixPeriod, OfSmallFreeOscillationByTimeIntegration)
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, SuperHelixPeriod,
-                         ::testing::Values(Integrator::SemiImplicit, Integrator::Midpoint),
-                         [](const ::testing::TestParamInfo<Integrator>& info) {
-                           return info.param == Integrator::Midpoint ? "Midpoint" : "SemiImplicit";
-                         });
+                         ::testing::Values(Integrator::SemiImplicit, Integrator::Midpoint,
+                                           Integrator::Bdf2),
+                         [](const ::testing::TestParamInfo<Integrator>& info)
+                         { return integratorTestName(info.param); });
 
 TEST(SuperHelixEulerBernoulli, StiffCantileverTipDeflection)
 {

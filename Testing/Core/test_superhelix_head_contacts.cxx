@@ -40,8 +40,9 @@ double meshDepth(const MeshQueries& mesh, const Eigen::Vector3d& p)
 
 namespace
 {
-void drapeOverHead(Integrator integrator)
+void drapeOverHead(Integrator integrator, long& firstOrder)
 {
+  firstOrder = 0;
   // A smooth strand of 25 cm rooted 2 mm above the crown, growing sideways (+x) over the
   // head, left 5 s under gravity: it drapes over the side of the head and rests.
   const BundledBody& b = body();
@@ -76,6 +77,7 @@ void drapeOverHead(Integrator integrator)
   {
     const Status st = h.step(1.0 / 30);
     ASSERT_TRUE(st.ok()) << st.message();
+    firstOrder += h.lastFirstOrder();
   }
   const MeshQueries mesh(b.mesh);
   // Table depths: near the clamp (the first three elements, s < 7.5 cm) the clamp's moment
@@ -125,12 +127,19 @@ void drapeOverHead(Integrator integrator)
 
 TEST(SuperHelixHeadContacts, StrandDrapedOverTheHeadRestsOutside)
 {
-  // Both time steps (the second-order one takes the semi-implicit step wherever the strand
-  // touches: the bounds are the same).
-  for (Integrator integrator : {Integrator::SemiImplicit, Integrator::Midpoint})
+  // Every time step (the midpoint one takes the semi-implicit step wherever the strand
+  // touches; BDF2 keeps its own step in contact: the bounds are the same).
+  for (Integrator integrator : {Integrator::SemiImplicit, Integrator::Midpoint, Integrator::Bdf2})
   {
     SCOPED_TRACE(toString(integrator));
-    drapeOverHead(integrator);
+    long firstOrder = 0;
+    drapeOverHead(integrator, firstOrder);
+    RecordProperty(std::string(toString(integrator)) + "_first_order_steps",
+                   std::to_string(firstOrder));
+    // BDF2 lying on the head: its own step but for the first one and those the energy guard
+    // declines (measured: see the property); at most a tenth of the 300.
+    if (integrator == Integrator::Bdf2)
+      EXPECT_LE(firstOrder, 30);
   }
 }
 

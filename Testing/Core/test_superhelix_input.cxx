@@ -1,6 +1,7 @@
 // Refusal of bad input with a clear message, blow-up handling that keeps the previous
 // state, the contact hook, multi-strand stepping and the optional adaptive sub-steps.
 #include "HeadShake.h"
+#include "IntegratorNames.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>
@@ -27,7 +28,7 @@ StrandSpec goodSpec(Integrator integrator = Integrator::SemiImplicit)
 
 std::string integratorName(const ::testing::TestParamInfo<Integrator>& info)
 {
-  return info.param == Integrator::Midpoint ? "Midpoint" : "SemiImplicit";
+  return integratorTestName(info.param);
 }
 
 void expectRefused(const StrandSpec& spec, const std::string& mentions)
@@ -89,7 +90,7 @@ TEST(SuperHelixInput, BadParametersAreRefusedWithTheirName)
   };
   expectRefused(s, "orientation");
   s = goodSpec();
-  s.integrator = static_cast<Integrator>(2);
+  s.integrator = static_cast<Integrator>(3);
   expectRefused(s, "integrator");
 }
 
@@ -257,5 +258,6 @@ TEST_P(SuperHelixSteps, AdaptiveSubstepsOnlyWhenAskedAndMoreAccurate)
 }
 
 INSTANTIATE_TEST_SUITE_P(Integrators, SuperHelixSteps,
-                         ::testing::Values(Integrator::SemiImplicit, Integrator::Midpoint),
+                         ::testing::Values(Integrator::SemiImplicit, Integrator::Midpoint,
+                                           Integrator::Bdf2),
                          integratorName);
