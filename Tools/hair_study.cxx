@@ -26,9 +26,11 @@
 //
 // Every study is described in docs/study-*.md. Bad input: a message on stderr naming the
 // argument and what to do, exit status 2; a failed computation: exit status 1.
+#include "AnalyticBodies.h"
 #include "ClumpScene.h"
 #include "DemoScene.h"
 #include "analysis/StrandAnalysis.h"
+#include "contact/BodyContacts.h"
 #include "contact/HairHairContacts.h"
 #include "contact/PassThrough.h"
 #include "io/StateFile.h"
@@ -745,18 +747,17 @@ int demo(const Arguments& args)
 // period; (c) a pendulum released from a push, its damping time against the air friction ν.
 // docs/study-oscillation.md.
 
-/// The time step the study's strands take. Only the paper's semi-implicit step exists in this
-/// build; the option is there so that a study can name the step it used.
+/// The time step the study's strands take, by its name (toString).
 Status integratorByName(const std::string& name, Integrator& integrator)
 {
-  for (Integrator i : {Integrator::SemiImplicit, Integrator::Midpoint})
+  for (Integrator i : {Integrator::SemiImplicit, Integrator::Midpoint, Integrator::Bdf2})
     if (name == toString(i))
     {
       integrator = i;
       return Status::Ok();
     }
   return Status::Error("integrator=" + name + " is unknown; give semi-implicit (the paper's " +
-                       "step) or midpoint (the second-order step).");
+                       "step), midpoint or bdf2 (the second-order steps).");
 }
 
 /// The root frame of a hanging strand: tangent −y (gravity −y), n1 = +x.
@@ -1184,7 +1185,7 @@ int integrator(const Arguments& args)
     return 2;
   }
   out << "case,integrator,dt_s,tolerance_m_per_s,figure,value,steps,rejected,first_order,wall_s\n";
-  const Integrator both[] = {Integrator::SemiImplicit, Integrator::Midpoint};
+  const Integrator both[] = {Integrator::SemiImplicit, Integrator::Midpoint, Integrator::Bdf2};
   auto row = [&](const char* what, Integrator in, double dt, double tol, const char* figure,
                  double value, const IntegratorRun& r)
   {
@@ -1286,6 +1287,370 @@ int integrator(const Arguments& args)
         row(contacts ? "demo_contacts" : "demo_no_contacts", in, 1.0 / 30, tol, "closure",
             residual / work, r);
       }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
+// The order of the time step in contact (docs/study-accuracy.md): a smooth 25 cm strand rooted
+// on the crown of the bundled head, growing sideways, falls onto the head table and slides
+// over it (body contacts with friction `friction`, 0.3 by default); the tip's largest
+// distance over [0, `seconds`] (sampled every 1/30 s) from a run at 1/(30·`reference`) s of
+// the same integrator, for steps of 1/(30 k) s, k = 1, 2, 4, …, `finest`; the observed order
+// between consecutive k.
+
+Status contactStrandRun(const std::vector<PosedPart>& bodies, const Eigen::Vector3d& above,
+                        Integrator integrator, int perFrame, double friction, double lookAhead,
+                        double seconds, std::vector<Eigen::Vector3d>& tips, long& firstOrder)
+{
+  const TableQuery top = bodies[0].query(above);
+  if (!top.covered)
+    return Status::Error("the first table does not cover the top.");
+  HairParameters hp = HairParameters::preset(HairType::Smooth);
+  hp.curvatureVariation = 0;
+  StrandSpec s = StrandSpec::uniform(0.25, 10, hp);
+  s.integrator = integrator;
+  const Eigen::Vector3d root = top.surfacePoint + 0.002 * top.normal;
+  s.root = [root](double)
+  {
+    RootState r;
+    r.position = root;
+    r.orientation = Eigen::Matrix3d::Identity(); // tangent +x: sideways over the head
+    return r;
+  };
+  SuperHelix h;
+  if (Status st = h.initialize(s); !st)
+    return st;
+  BodyContactParameters prm;
+  prm.friction = friction;
+  prm.lookAhead = lookAhead;
+  BodyContacts contacts;
+  if (Status st = contacts.setParameters(prm); !st)
+    return st;
+  const double rhoS = hp.linearDensity();
+  h.setContactForces(
+      [&](int, double, const std::vector<StrandSample>& smp, std::vector<ContactResponse>& r)
+      { contacts.respond(smp, rhoS, bodies.data(), static_cast<int>(bodies.size()), r); });
+  tips.assign(1, h.position(h.length()));
+  firstOrder = 0;
+  const long frames = std::lround(seconds * 30);
+  for (long f = 0; f < frames; ++f)
+  {
+    for (int k = 0; k < perFrame; ++k)
+    {
+      if (Status st = h.step(1.0 / (30 * perFrame)); !st)
+        return st;
+      firstOrder += h.lastFirstOrder();
+    }
+    tips.push_back(h.position(h.length()));
+  }
+  return Status::Ok();
+}
+
+int order(const Arguments& args)
+{
+  int finest = 0, referenceSteps = 0;
+  double seconds = 0, friction = 0, lookAhead = 0;
+  std::ofstream out;
+  Status s = args.integer("finest", 64, 1, 4096, finest);
+  if (s)
+    s = args.integer("reference", 2048, 2, 100000, referenceSteps);
+  if (s)
+    s = args.number("seconds", 1, 1.0 / 30, 100, seconds);
+  if (s)
+    s = args.number("friction", 0.3, 0, 10, friction);
+  if (s)
+    s = args.number("lookahead", 1.0 / 30, 0, 1, lookAhead);
+  std::vector<Integrator> integrators;
+  {
+    std::stringstream list(args.text("integrators", "semi-implicit,bdf2"));
+    std::string item;
+    Integrator in;
+    while (s && std::getline(list, item, ','))
+      if (s = integratorByName(item, in); s)
+        integrators.push_back(in);
+  }
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study order: " << s.message() << "\n";
+    return 2;
+  }
+  // The head and trunk tables of the bundled body, or a sphere of radius 0.1 m (its table
+  // cast on the exact sphere).
+  const std::string bodyName = args.text("body", "head");
+  std::vector<PosedPart> bodies;
+  Eigen::Vector3d above;
+  BundledBody b;
+  CollisionTable sphereTable;
+  if (bodyName == "head")
+  {
+    if (s = loadBundledBody(HAIR_DATA_DIR, b); s)
+    {
+      bodies = {PosedPart::still(b.parts[b.head].table), PosedPart::still(b.parts[b.trunk].table)};
+      above = b.headCentre + Eigen::Vector3d(0, 0.2, 0);
+    }
+  }
+  else if (bodyName == "sphere")
+  {
+    const hairtest::Ellipsoid sphere(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
+    TableSpec t;
+    t.projection = Projection::Spherical;
+    if (s = sphereTable.build(t, sphere); s)
+    {
+      bodies = {PosedPart::still(sphereTable)};
+      above = Eigen::Vector3d(0, 0.2, 0);
+    }
+  }
+  else
+    s = Status::Error("body=" + bodyName + " is not one of head, sphere.");
+  if (!s)
+  {
+    std::cerr << "hair_study order: " << s.message() << "\n";
+    return 1;
+  }
+  out << "integrator,friction,steps_per_frame,dt_s,tip_error_m,order,first_order_steps\n";
+  for (Integrator in : integrators)
+  {
+    std::vector<Eigen::Vector3d> ref, tips;
+    long firstOrder = 0;
+    if (s = contactStrandRun(bodies, above, in, referenceSteps, friction, lookAhead, seconds, ref,
+                             firstOrder);
+        !s)
+      break;
+    double previous = 0;
+    for (int k = 1; k <= finest; k *= 2)
+    {
+      if (s = contactStrandRun(bodies, above, in, k, friction, lookAhead, seconds, tips,
+                               firstOrder);
+          !s)
+        break;
+      double e = 0;
+      for (size_t i = 0; i < tips.size(); ++i)
+        e = std::max(e, (tips[i] - ref[i]).norm());
+      out << toString(in) << "," << friction << "," << k << "," << 1.0 / (30 * k) << "," << e
+          << ",";
+      if (previous > 0)
+        out << std::log2(previous / e);
+      out << "," << firstOrder << std::endl;
+      previous = e;
+    }
+    if (!s)
+      break;
+  }
+  if (!s)
+  {
+    std::cerr << "hair_study order: " << s.message() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
+// Accuracy on the demo scene (docs/study-accuracy.md): the demo's guides on the bundled body
+// (head and trunk tables, the default hair–hair grid, the head's shake and the wind) run with
+// each of `runs` (integrator:tolerance, comma-separated) and with `reference`; per run the
+// wall time of the simulation (threads as given), each strand's largest tip distance from the
+// reference's over the frames (median and 95th percentile over the strands), the energy
+// closure |residual| / (|work done on the hair| + |dissipated|) at the end (the demo's
+// summary), the sub-steps and the share taken first order. The reference's tips are kept in
+// `cache` and reused when it was made with the same guides, seconds and reference.
+
+struct SceneRun
+{
+  std::vector<std::vector<Eigen::Vector3d>> tips; // per frame, per strand
+  double wall = 0, closure = 0, substeps = 0, rejected = 0, firstOrder = 0;
+};
+
+Status runAccuracyScene(const BundledBody& body, const std::vector<GuideStrand>& guides,
+                        Integrator integrator, double tolerance, int perFrame, int threads,
+                        int frames, bool bodyContacts, bool grid, SceneRun& r)
+{
+  SimulationOptions o;
+  o.threads = threads;
+  o.timeStep = o.frameInterval / perFrame;
+  o.superHelix.contacts.enabled = bodyContacts;
+  o.superHelix.hairHairEnabled = grid;
+  o.superHelix.integrator = integrator;
+  o.superHelix.tolerance = tolerance;
+  Simulation sim;
+  if (Status s = sim.initialize(guides, demoScene(body), o); !s)
+    return s;
+  const auto start = std::chrono::steady_clock::now();
+  if (Status s = sim.advanceTo(frames); !s)
+    return s;
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.tips.assign(frames, {});
+  for (int f = 0; f < frames; ++f)
+  {
+    GuideDrawing drawn;
+    if (Status s = sim.drawFrame(f, 1, drawn); !s)
+      return s;
+    const auto& offsets = drawn.header.offsets;
+    for (size_t k = 0; k + 1 < offsets.size(); ++k)
+      r.tips[f].push_back(drawn.frame.positions[offsets[k + 1] - 1]);
+  }
+  std::vector<double> times;
+  std::map<std::string, std::vector<double>> c;
+  sim.energyTable(times, c);
+  const size_t last = times.size() - 1;
+  r.closure = std::abs(c["residual"][last]) / std::max(1e-300, std::abs(c["external_work"][last]) +
+                                                                   std::abs(c["dissipated"][last]));
+  for (size_t i = 1; i < times.size(); ++i)
+  {
+    r.substeps += c["substeps"][i];
+    r.rejected += c["rejected_substeps"][i];
+    r.firstOrder += c["first_order_share"][i] * c["substeps"][i];
+  }
+  r.firstOrder /= std::max(1e-300, r.substeps);
+  r.substeps /= std::max<size_t>(1, last);
+  r.rejected /= std::max<size_t>(1, last);
+  return Status::Ok();
+}
+
+// integrator[:tolerance[:steps per frame]]
+struct AccuracyRun
+{
+  Integrator integrator = Integrator::SemiImplicit;
+  double tolerance = 0;
+  int perFrame = 1;
+};
+
+Status parseRun(const std::string& text, AccuracyRun& run)
+{
+  const size_t colon = text.find(':');
+  if (Status s = integratorByName(text.substr(0, colon), run.integrator); !s)
+    return s;
+  if (colon != std::string::npos)
+  {
+    std::string rest = text.substr(colon + 1);
+    std::replace(rest.begin(), rest.end(), ':', ' ');
+    std::istringstream in(rest);
+    if (!(in >> run.tolerance) || !(run.tolerance >= 0))
+      return Status::Error("run '" + text + "': the tolerance after ':' must be a number >= 0.");
+    if (!(in >> run.perFrame))
+      run.perFrame = 1;
+    if (run.perFrame < 1 || run.perFrame > 1000)
+      return Status::Error("run '" + text + "': the steps per frame must be in [1, 1000].");
+  }
+  return Status::Ok();
+}
+
+int accuracy(const Arguments& args)
+{
+  int guidesCount = 0, threads = 0, bodyContacts = 1, grid = 1;
+  double seconds = 0;
+  std::ofstream out;
+  Status s = args.integer("guides", 200, 1, 10000, guidesCount);
+  if (s)
+    s = args.integer("body", 1, 0, 1, bodyContacts);
+  if (s)
+    s = args.integer("grid", 1, 0, 1, grid);
+  if (s)
+    s = args.integer("threads", 2, 1, 256, threads);
+  if (s)
+    s = args.number("seconds", 2, 1.0 / 30, 100, seconds);
+  std::vector<AccuracyRun> runs;
+  {
+    std::stringstream list(args.text("runs", "semi-implicit:0,bdf2:0"));
+    std::string item;
+    while (s && std::getline(list, item, ','))
+    {
+      AccuracyRun run;
+      s = parseRun(item, run);
+      runs.push_back(run);
+    }
+  }
+  AccuracyRun reference;
+  const std::string referenceName = args.text("reference", "semi-implicit:0.001");
+  if (s)
+    s = parseRun(referenceName, reference);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study accuracy: " << s.message() << "\n";
+    return 2;
+  }
+  auto fail = [](const Status& st)
+  {
+    std::cerr << "hair_study accuracy: " << st.message() << "\n";
+    return 1;
+  };
+  BundledBody body;
+  std::vector<GuideStrand> guides;
+  if (s = loadBundledBody(HAIR_DATA_DIR, body); !s)
+    return fail(s);
+  if (s = demoGuides(body, guidesCount, 10, guides); !s)
+    return fail(s);
+  const int frames = static_cast<int>(std::lround(seconds * 30)) + 1;
+  // The reference: from the cache when it matches, else run (and cached).
+  std::ostringstream key;
+  key << "# guides=" << guidesCount << " seconds=" << seconds << " reference=" << referenceName
+      << " body=" << bodyContacts << " grid=" << grid;
+  SceneRun ref;
+  const std::string cache = args.text("cache", "");
+  if (!cache.empty())
+  {
+    std::ifstream in(cache);
+    std::string line;
+    if (in && std::getline(in, line) && line == key.str())
+    {
+      ref.tips.assign(frames, std::vector<Eigen::Vector3d>(guides.size()));
+      int f = 0, k = 0;
+      double x, y, z;
+      char comma;
+      while (in >> f >> comma >> k >> comma >> x >> comma >> y >> comma >> z)
+        if (f >= 0 && f < frames && k >= 0 && k < static_cast<int>(guides.size()))
+          ref.tips[f][k] = Eigen::Vector3d(x, y, z);
+      std::cerr << "hair_study accuracy: reference from " << cache << "\n";
+    }
+  }
+  if (ref.tips.empty())
+  {
+    if (s = runAccuracyScene(body, guides, reference.integrator, reference.tolerance,
+                             reference.perFrame, threads, frames, bodyContacts != 0, grid != 0,
+                             ref);
+        !s)
+      return fail(s);
+    std::cerr << "hair_study accuracy: reference " << referenceName << " took " << ref.wall
+              << " s\n";
+    if (!cache.empty())
+    {
+      std::ofstream c(cache);
+      c << key.str() << "\n";
+      c.precision(17);
+      for (int f = 0; f < frames; ++f)
+        for (size_t k = 0; k < ref.tips[f].size(); ++k)
+          c << f << "," << k << "," << ref.tips[f][k].x() << "," << ref.tips[f][k].y() << ","
+            << ref.tips[f][k].z() << "\n";
+    }
+  }
+  out << "integrator,tolerance_m_per_s,steps_per_frame,wall_s,wall_ratio,tip_error_median_m,"
+         "tip_error_p95_m,closure,substeps_per_frame,rejected_per_frame,first_order_share\n";
+  double firstWall = 0;
+  for (const AccuracyRun& run : runs)
+  {
+    SceneRun r;
+    if (s = runAccuracyScene(body, guides, run.integrator, run.tolerance, run.perFrame, threads,
+                             frames, bodyContacts != 0, grid != 0, r);
+        !s)
+      return fail(s);
+    std::vector<double> errors(guides.size(), 0.0);
+    for (int f = 0; f < frames; ++f)
+      for (size_t k = 0; k < guides.size(); ++k)
+        errors[k] = std::max(errors[k], (r.tips[f][k] - ref.tips[f][k]).norm());
+    std::sort(errors.begin(), errors.end());
+    auto quantile = [&](double p) {
+      return errors[std::min(errors.size() - 1,
+                             static_cast<size_t>(p * (errors.size() - 1) + 0.5))];
+    };
+    if (firstWall == 0)
+      firstWall = r.wall;
+    out << toString(run.integrator) << "," << run.tolerance << "," << run.perFrame << "," << r.wall
+        << "," << r.wall / firstWall << "," << quantile(0.5) << "," << quantile(0.95) << ","
+        << r.closure << "," << r.substeps << "," << r.rejected << "," << r.firstOrder << std::endl;
+  }
   return 0;
 }
 
@@ -1567,7 +1932,8 @@ int hairhair(const Arguments& args)
 int usage()
 {
   std::cerr
-      << "usage: hair_study <convergence|buckling|release|scene|integrator|clump|demo|oscillation|"
+      << "usage: hair_study <convergence|buckling|release|scene|integrator|accuracy|clump|demo|"
+         "oscillation|"
          "pendulum|hairhair> out=<file> "
          "[key=value ...]\n"
          "  convergence [ns=1,2,...,40] [length=0.1]\n"
@@ -1577,6 +1943,13 @@ int usage()
          "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
          "              (out=<file>.h5)\n"
          "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
+         "  order       [integrators=semi-implicit,bdf2] [friction=0.3] [lookahead=1/30]\n"
+         "              [seconds=1] [body=head|sphere]\n"
+         "              [finest=64] [reference=2048 (steps per frame)]\n"
+         "  accuracy    [runs=semi-implicit:0,bdf2:0 (integrator[:tolerance[:steps per "
+         "frame]],...)]\n"
+         "              [reference=semi-implicit:0.001] [cache=<csv>] [guides=200] [seconds=2]\n"
+         "              [threads=2] [body=1] [grid=1]\n"
          "  clump       [quick=0|1] [strands=50] [duration=6] [ramp=3] [updates=1]\n"
          "              [gammas=5e-11,1e-10,2e-10,5e-10] [thickness=1.2e-3]\n"
          "              [contacts=1] [perlength=0] [reflength=0.01 (m, with perlength=1)]\n"
@@ -1609,6 +1982,12 @@ int main(int argc, char** argv)
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
        {"integrator", {{"out", "quick", "demo", "guides", "seconds"}, integrator}},
+       {"order",
+        {{"out", "finest", "reference", "seconds", "friction", "lookahead", "integrators", "body"},
+         order}},
+       {"accuracy",
+        {{"out", "guides", "threads", "seconds", "runs", "reference", "cache", "body", "grid"},
+         accuracy}},
        {"demo", {{"out", "strands", "n", "duration", "dt", "model", "threads", "data"}, demo}},
        {"oscillation",
         {{"out", "summary", "shapes", "preset", "integrator", "length", "n", "gammas",
