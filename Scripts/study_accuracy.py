@@ -11,13 +11,17 @@ Run: /usr/bin/python3 Scripts/study_accuracy.py build/bin/hair_study <output dir
     percentile over the strands), the energy closure |residual| / (|work| + |dissipated|)
     at the end, and the wall time as a multiple of the default's (semi-implicit, fixed
     steps). --quick: 40 guides, 1 s, fewer runs.
+(c) Work against precision over N (`hair_study workprecision`): the released strand (30 cm,
+    smooth, air drag 1e-5, 1 s) with N = 5, 10, 20, 40 elements (--quick: 5, 10), every step
+    with tolerances 0.05 ... 0.005 m/s, against the midpoint step at 1/7680 s with that N.
 (b) A smooth 25 cm strand falling onto a still sphere (its table cast on the exact sphere)
     and onto the bundled head's tables (`hair_study order`), 1 s, friction 0.3: the tip's
     largest distance from a run at 1/(30 * 2048) s of the same step, for steps of
     1/(30 k) s, k = 1 ... 256 (--quick: 64), and the observed order.
 
-Writes study_accuracy_scene.csv, study_accuracy_order_<body>.csv, study_accuracy.png (work
-against precision and closure; the order plots) and study_accuracy.txt.
+Writes study_accuracy_scene.csv, study_accuracy_order_<body>.csv,
+study_accuracy_workprecision.csv, study_accuracy.png (work against precision and closure on
+the head, the order plots, work against precision over N) and study_accuracy.txt.
 """
 import csv
 import os
@@ -67,6 +71,10 @@ def main():
                       reference=512 if quick else 2048, integrators="semi-implicit,bdf2")
         orders[body] = rows(path)
 
+    wp_path = os.path.join(out, "study_accuracy_workprecision.csv")
+    studytool.run(tool, "workprecision", out=wp_path, ns="5,10" if quick else "5,10,20,40")
+    wp = rows(wp_path)
+
     runs = rows(scene)
     lines = ["(a) the demo's head, 2 s (--quick: 1 s); reference: semi-implicit, 1 mm/s",
              f"{'integrator':<14}{'step':>12}{'wall':>8}{'tip median':>12}{'tip 95 %':>10}"
@@ -89,9 +97,15 @@ def main():
             lines.append(f"{body:<7}{integrator:<14} k = {ks[0]}..{ks[-1]}: {errs} mm")
             lines.append(" " * 21 + "orders: " +
                          ", ".join(f"{float(r['order']):.2f}" for r in sel if r["order"]))
+    lines.append("")
+    lines.append("(c) the released strand, 1 s: tip error (mm) and steps per second, by N")
+    for r in wp:
+        lines.append(f"N = {int(r['n']):>2}  {r['integrator']:<14}{float(r['tolerance_m_per_s']):>7g} m/s"
+                     f"{1000 * float(r['tip_error_m']):>10.3g} mm{int(r['steps']):>7} steps"
+                     f" (+{int(r['rejected'])}){1000 * float(r['wall_s']):>9.1f} ms")
     studytool.write_summary(out, "study_accuracy.txt", lines)
 
-    fig, axes = plt.subplots(1, 4, figsize=(20, 4.8))
+    fig, axes = plt.subplots(1, 5, figsize=(25, 4.8))
     ax, axc = axes[0], axes[1]
     for integrator, colour in COLOURS.items():
         sel = [r for r in runs if r["integrator"] == integrator]
@@ -115,7 +129,20 @@ def main():
         a.legend(fontsize=8)
     ax.set_title("demo's head: work against precision\n(dashed: the issue's goal; dotted: 3x)")
     axc.set_title("demo's head: energy closure against work")
-    for a, (body, rs) in zip(axes[2:], orders.items()):
+    aw = axes[4]
+    markers = {5: "v", 10: "o", 20: "s", 40: "D"}
+    for integrator, colour in COLOURS.items():
+        for n in sorted({int(r["n"]) for r in wp}):
+            sel = [r for r in wp if r["integrator"] == integrator and int(r["n"]) == n]
+            aw.loglog([float(r["steps"]) for r in sel],
+                      [1000 * float(r["tip_error_m"]) for r in sel],
+                      marker=markers.get(n, "o"), color=colour, lw=0.8,
+                      label=f"{integrator}, N = {n}")
+    aw.set_xlabel("steps per simulated second (tolerances 0.05 ... 0.005 m/s)")
+    aw.set_ylabel("tip error (mm)")
+    aw.set_title("released strand: work against precision over N")
+    aw.legend(fontsize=6, ncol=2)
+    for a, (body, rs) in zip(axes[2:4], orders.items()):
         for integrator in ("semi-implicit", "bdf2"):
             sel = [r for r in rs if r["integrator"] == integrator]
             dt = np.array([float(r["dt_s"]) for r in sel])

@@ -1131,13 +1131,13 @@ struct IntegratorRun
 };
 
 IntegratorRun releasedStrand(Integrator integrator, double air, double seconds, int perFrame,
-                             double tolerance, Status& st)
+                             double tolerance, Status& st, int elements = 10)
 {
   HairParameters p = HairParameters::preset(HairType::Smooth);
   p.curvatureVariation = 0;
   p.internalFriction = 0;
   p.airFriction = air;
-  StrandSpec spec = StrandSpec::uniform(0.3, 10, p);
+  StrandSpec spec = StrandSpec::uniform(0.3, elements, p);
   spec.integrator = integrator;
   SuperHelix h;
   IntegratorRun r;
@@ -1287,6 +1287,55 @@ int integrator(const Arguments& args)
         row(contacts ? "demo_contacts" : "demo_no_contacts", in, 1.0 / 30, tol, "closure",
             residual / work, r);
       }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------
+// Work against precision over N (docs/study-accuracy.md): the released strand of `integrator`
+// (30 cm, smooth, air drag 1e-5, no internal friction, 1 s in frames of 1/30 s) with N
+// elements, each step and tolerance, against the midpoint step at 1/7680 s with the same N:
+// the tip's largest distance over the frames, the steps (accepted and rejected) and the
+// wall time for the simulated second. One CSV row per run.
+
+int workPrecision(const Arguments& args)
+{
+  std::vector<double> ns, tolerances;
+  std::ofstream out;
+  Status s = args.list("ns", {5, 10, 20, 40}, 1, 400, ns);
+  if (s)
+    s = args.list("tolerances", {0.05, 0.02, 0.01, 0.005}, 1e-6, 1, tolerances);
+  if (s)
+    s = openOutput(args, out);
+  if (!s)
+  {
+    std::cerr << "hair_study workprecision: " << s.message() << "\n";
+    return 2;
+  }
+  out << "n,integrator,tolerance_m_per_s,tip_error_m,steps,rejected,first_order,wall_s\n";
+  for (double nd : ns)
+  {
+    const int n = static_cast<int>(std::lround(nd));
+    Status st;
+    const IntegratorRun ref = releasedStrand(Integrator::Midpoint, 1e-5, 1, 256, 0, st, n);
+    for (Integrator in : {Integrator::SemiImplicit, Integrator::Midpoint, Integrator::Bdf2})
+      for (double tol : tolerances)
+      {
+        if (!st)
+          break;
+        const IntegratorRun r = releasedStrand(in, 1e-5, 1, 1, tol, st, n);
+        double e = 0;
+        for (size_t i = 0; i < r.tips.size() && i < ref.tips.size(); ++i)
+          e = std::max(e, (r.tips[i] - ref.tips[i]).norm());
+        if (st)
+          out << n << "," << toString(in) << "," << tol << "," << e << "," << r.steps << ","
+              << r.rejected << "," << r.firstOrder << "," << r.wall << std::endl;
+      }
+    if (!st)
+    {
+      std::cerr << "hair_study workprecision, N = " << n << ": " << st.message() << "\n";
+      return 1;
+    }
+  }
   return 0;
 }
 
@@ -1932,7 +1981,8 @@ int hairhair(const Arguments& args)
 int usage()
 {
   std::cerr
-      << "usage: hair_study <convergence|buckling|release|scene|integrator|accuracy|clump|demo|"
+      << "usage: hair_study <convergence|buckling|release|scene|integrator|accuracy|workprecision|"
+         "order|clump|demo|"
          "oscillation|"
          "pendulum|hairhair> out=<file> "
          "[key=value ...]\n"
@@ -1943,6 +1993,7 @@ int usage()
          "  scene       [strands=6] [n=10] [duration=1] [dt=1/30] [model=super-helix]\n"
          "              (out=<file>.h5)\n"
          "  integrator  [quick=0|1] [demo=0|1] [guides=200] [seconds=5]\n"
+         "  workprecision [ns=5,10,20,40] [tolerances=0.05,0.02,0.01,0.005]\n"
          "  order       [integrators=semi-implicit,bdf2] [friction=0.3] [lookahead=1/30]\n"
          "              [seconds=1] [body=head|sphere]\n"
          "              [finest=64] [reference=2048 (steps per frame)]\n"
@@ -1982,6 +2033,7 @@ int main(int argc, char** argv)
        {"release", {{"out", "n", "dt", "duration", "length", "preset"}, release}},
        {"scene", {{"out", "strands", "n", "duration", "dt", "model"}, scene}},
        {"integrator", {{"out", "quick", "demo", "guides", "seconds"}, integrator}},
+       {"workprecision", {{"out", "ns", "tolerances"}, workPrecision}},
        {"order",
         {{"out", "finest", "reference", "seconds", "friction", "lookahead", "integrators", "body"},
          order}},
