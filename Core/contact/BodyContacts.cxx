@@ -91,39 +91,44 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   const Eigen::Vector3d vb = body.velocityAt(x); // the surface's
   const Eigen::Vector3d u = v - vb;              // relative
   const double un = n.dot(u);
-  // In contact: inside the layer, or outside but reaching it within the look-ahead time at
-  // the current approach speed (d − h u_n > 0, u_n < 0).
-  if (d <= 0 && !(un < 0 && d - p.lookAhead * un > 0))
-  {
-    return false;
-  }
+  // The normal force per unit length λ n, never pulling (λ > 0: a sample leaving fast is let
+  // go), continuous in the sample's state so that a step converges at its order through
+  // contact (docs/superhelix-contacts.md). The surface moves too: over the look-ahead h it
+  // advances by h (v_b·n) into the strand, d̃ = d + h n·v_b.
+  //  - In the layer (d̃ > 0): penalty and damping, λ = k d̃ − c u_n.
+  //  - Arriving (d̃ ≤ 0, reaching the layer within h at the approach speed u_n < 0): the
+  //    damping, ramped from nothing where the sample is h |u_n| away to all of it at the
+  //    layer, λ = (c/h) d̃ − c u_n = c (d̃ − h u_n)/h, implicit, which stops the approach
+  //    (c h / ρS = 2 ζ h √(k/ρS) ≫ 1). Its stiffness c/h is ζ/(h √(k/ρS)) … of k: 6 % at the
+  //    defaults.
+  // Both give −c u_n at d̃ = 0 and the arriving force is 0 at its edge. K carries the −n·Δx
+  // part of the penetration at the end of the step.
   const double k = p.stiffness;
   const double c = 2 * p.dampingRatio * std::sqrt(k * linearDensity);
-  const Eigen::Matrix3d nn = n * n.transpose();
-  if (d <= 0)
+  const double dm = d + p.lookAhead * n.dot(vb);
+  double lambda = 0, normalStiffness = 0;
+  if (dm > 0)
   {
-    // Still outside, arriving within the look-ahead: only the normal damping, −c u_n n,
-    // implicit, which stops the approach over the step (c h / ρS = 2 ζ h √(k/ρS) ≫ 1). No
-    // spring: a spring here would pull the sample in from wherever it is when the step is
-    // shorter than the look-ahead (sub-steps), and no friction (no load yet).
-    out.force -= (c * un) * n;
-    out.damping += c * nn;
-    return true;
+    lambda = k * dm - c * un;
+    normalStiffness = k;
   }
-  // Normal force per unit length: penalty and damping, never pulling (λ >= 0: a sample
-  // leaving fast is let go). The surface moves too: over a step h it advances by h (v_b·n) into the
-  // strand, so the penetration at the end of the step is d − n·(Δx − h v_b); K carries the −n·Δx
-  // part, the force the rest.
-  const double lambda = k * (d + p.lookAhead * n.dot(vb)) - c * un;
-  if (lambda <= 0)
+  else if (p.lookAhead > 0 && un < 0 && dm - p.lookAhead * un > 0)
+  {
+    lambda = (c / p.lookAhead) * dm - c * un;
+    normalStiffness = c / p.lookAhead;
+  }
+  if (!(lambda > 0))
   {
     return false;
   }
+  const Eigen::Matrix3d nn = n * n.transpose();
   out.force += lambda * n;
-  out.stiffness += k * nn;
+  out.stiffness += normalStiffness * nn;
   out.damping += c * nn;
 
-  // Friction: regularized Coulomb, f_t = −μ (1 + a t·u_t / s) λ u_t / s, s = √(|u_t|² + ε²).
+  // Friction: regularized Coulomb, f_t = −μ (1 + a t·u_t / s) λ u_t / s, s = √(|u_t|² + ε²),
+  // with whatever normal force the sample has (arriving ones too: friction then grows with
+  // it from nothing).
   // Its linearization is the secant η P (η = μ_eff λ / s, P = I − n nᵀ): with it, the force
   // over the step is −η u_tⁿ⁺¹, which opposes the new sliding velocity and cannot reverse
   // it (the tangent would overshoot stick by up to h μ g per step at dt = 1/30 s).
