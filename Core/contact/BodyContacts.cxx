@@ -99,7 +99,7 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   //  - Arriving (d̃ ≤ 0, reaching the layer within h at the approach speed u_n < 0): the
   //    damping, ramped from nothing where the sample is h |u_n| away to all of it at the
   //    layer, λ = (c/h) d̃ − c u_n = c (d̃ − h u_n)/h, implicit, which stops the approach
-  //    (c h / ρS = 2 ζ h √(k/ρS) ≫ 1). Its stiffness c/h is ζ/(h √(k/ρS)) … of k: 6 % at the
+  //    (c h / ρS = 2 ζ h √(k/ρS) ≫ 1). Its stiffness c/h is 2ζ/(h √(k/ρS)) of k: 6 % at the
   //    defaults.
   // Both give −c u_n at d̃ = 0 and the arriving force is 0 at its edge. K carries the −n·Δx
   // part of the penetration at the end of the step.

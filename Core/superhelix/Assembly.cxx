@@ -136,7 +136,7 @@ void SuperHelix::assemble()
   const bool bdf = fold > 0 && StepScheme == Scheme::Bdf2;
   thread_local std::vector<Eigen::Vector3d> hatVelocity;
   if (bdf && contacts)
-    sampleVelocities(BdfHat, hatVelocity);
+    sampleVelocities(BdfHat, false, hatVelocity);
   // Tail sums, from the tip: force, torque, mass, first and second moments. The tip load
   // acts beyond every element: J(L)ᵀP = A_eᵀ (r(L) × P) + W_eᵀ P for every e.
   Eigen::Vector3d tailF = Spec.tipForce, tailT = k.tip.r0.cross(Spec.tipForce);

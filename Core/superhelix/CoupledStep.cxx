@@ -56,19 +56,10 @@ void SuperHelix::endVelocities(const Eigen::VectorXd& qd, std::vector<StrandSamp
   // The samples' velocities at the end of the step, v0 + Σ_{p<e} ((A_p q̇_p) × r + W_p q̇_p)
   // + J q̇_e (as the energy flows and the kinematics take them), at their current places.
   out = samples();
-  Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
-  for (int e = 0; e < elementCount(); ++e)
-  {
-    const Element& el = Cur.elements[e];
-    const Eigen::Vector3d x = qd.segment<3>(3 * e);
-    for (int j = el.first; j < el.first + el.count; ++j)
-    {
-      const Node& nd = Cur.nodes[j];
-      out[j].velocity = nd.v0 + pa.cross(nd.r) + pw + nd.J * x;
-    }
-    pa += el.A * x;
-    pw += el.W * x;
-  }
+  thread_local std::vector<Eigen::Vector3d> velocities;
+  sampleVelocities(qd, true, velocities);
+  for (size_t j = 0; j < out.size(); ++j)
+    out[j].velocity = velocities[j];
 }
 
 void SuperHelix::predictedSamples(const Eigen::VectorXd& response,
@@ -240,9 +231,8 @@ Status SuperHelix::endStep(const std::vector<int>& samples,
   // A strand without coupling forces takes the step its integrator asks for: with
   // Integrator::Midpoint the second-order one (itself semi-implicit where the strand touches
   // the body), with Integrator::Bdf2 BDF2; the semi-implicit step begun is what it would
-  // commit otherwise. (Its pairs were
-  // searched along the semi-implicit step's motion; the detection's margin covers the
-  // difference, docs/hair-hair-contacts.md.)
+  // commit otherwise. (Its pairs were searched along the semi-implicit step's motion; the
+  // detection's margin covers the difference, docs/hair-hair-contacts.md.)
   if (none && Spec.integrator != Integrator::SemiImplicit)
     return singleStep(Pending.h);
   if (!none && (forces.size() != samples.size() || response.size() != Q.size()))

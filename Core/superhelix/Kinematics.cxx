@@ -345,9 +345,11 @@ void SuperHelix::fillWinds(double time)
   WindsValid = true;
 }
 
-void SuperHelix::sampleVelocities(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& out) const
+void SuperHelix::sampleVelocities(const Eigen::VectorXd& x, bool carried,
+                                  std::vector<Eigen::Vector3d>& out) const
 {
-  // J_P(s) = A_P × r(s) + W_P for the elements P before the sample's, its own block after.
+  // J_P(s) = A_P × r(s) + W_P for the elements P before the sample's, its own block after
+  // (summed after v0 when `carried`, in the order the energy flows and the kinematics take).
   out.resize(Cur.nodes.size());
   Eigen::Vector3d pa = Eigen::Vector3d::Zero(), pw = Eigen::Vector3d::Zero();
   for (int e = 0; e < elementCount(); ++e)
@@ -357,7 +359,8 @@ void SuperHelix::sampleVelocities(const Eigen::VectorXd& x, std::vector<Eigen::V
     for (int j = el.first; j < el.first + el.count; ++j)
     {
       const Node& nd = Cur.nodes[j];
-      out[j] = pa.cross(nd.r) + pw + nd.J * xe;
+      const Eigen::Vector3d base = carried ? nd.v0 : Eigen::Vector3d(Eigen::Vector3d::Zero());
+      out[j] = base + pa.cross(nd.r) + pw + nd.J * xe;
     }
     pa += el.A * xe;
     pw += el.W * xe;

@@ -300,11 +300,12 @@ Status SuperHelix::attemptStep(double h, Scheme scheme, double acceptLimit, Outc
     // The prediction's kinematics, then where its samples' material points are now (the
     // contact hook's samples); then the prediction becomes the current state.
     thread_local Kinematics predicted;
-    thread_local Eigen::VectorXd qdStar;
+    thread_local Eigen::VectorXd qStar, qdStar;
     thread_local std::vector<double> arcs;
     thread_local std::vector<StrandSample> atStart;
     qdStar = qd0 + omega * (qd0 - PreviousQdot);
-    kinematics(qHat + BdfWeight * qdStar, qdStar, rootState(t1), t1, predicted);
+    qStar = qHat + BdfWeight * qdStar;
+    kinematics(qStar, qdStar, rootState(t1), t1, predicted);
     if (Contacts)
     {
       arcs.resize(predicted.nodes.size());
@@ -319,18 +320,20 @@ Status SuperHelix::attemptStep(double h, Scheme scheme, double acceptLimit, Outc
     std::swap(Cur, start);
     std::swap(Cur, predicted);
     Qdot = qdStar;
-    Q = qHat + BdfWeight * qdStar;
+    Q = qStar;
     tEval = t1;
     Time = tEval;
     newCurId();
     WindsValid = false;
   }
-  const bool moved = midpoint || bdf;
+  // The midpoint and BDF2 steps are evaluated away from the start, which comes back if the
+  // step is not committed.
+  const bool awayFromStart = midpoint || bdf;
   // Every return before the commit goes through here.
   auto keep = [&](Status s, Outcome o)
   {
     outcome = o;
-    if (moved)
+    if (awayFromStart)
     {
       Q = q0;
       Qdot = qd0;
@@ -345,8 +348,8 @@ Status SuperHelix::attemptStep(double h, Scheme scheme, double acceptLimit, Outc
   // step is taken instead (and reports its own error if it fails too).
   auto fail = [&](const std::string& message)
   {
-    return moved ? keep(Status::Ok(), Outcome::Declined)
-                 : keep(Status::Error(message), Outcome::Committed);
+    return awayFromStart ? keep(Status::Ok(), Outcome::Declined)
+                         : keep(Status::Error(message), Outcome::Committed);
   };
   // The step's velocities: solved here, or by a coupled step (endStep) from the forces,
   // assembly and solve of its beginStep.
@@ -520,7 +523,7 @@ Status SuperHelix::attemptStep(double h, Scheme scheme, double acceptLimit, Outc
   // 1/30 s) its linearization can create energy without bound; BDF2 damps what it does not
   // resolve when the system is linear, but its one linearization about an extrapolated
   // prediction can create energy in a whip. Such a step is declined.
-  if (moved)
+  if (awayFromStart)
   {
     const double moved = Energy.kinetic + next.kinetic + std::abs(flow.rootWork) +
                          std::abs(flow.windWork) + std::abs(flow.contactWork) +

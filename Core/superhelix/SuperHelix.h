@@ -433,8 +433,10 @@ private:
   // ρS + (h c + h² k) / (1 + h ν/ρS), and their right-hand side into f (assemble()). 0
   // outside a step.
   double FoldStep = 0;
-  // J x at every sample of Cur (x: 3N coordinate velocities), from the tail Jacobians.
-  void sampleVelocities(const Eigen::VectorXd& x, std::vector<Eigen::Vector3d>& out) const;
+  // J x at every sample of Cur (x: 3N coordinate velocities), from the tail Jacobians; with
+  // `carried`, v0 + J x (the samples' velocities for coordinate velocities x).
+  void sampleVelocities(const Eigen::VectorXd& x, bool carried,
+                        std::vector<Eigen::Vector3d>& out) const;
 };
 
 /// Steps every strand by dt on `threads` threads (common/Parallel.h; 1: the calling thread

@@ -1,7 +1,9 @@
 #pragma once
-// The test-name suffix of each time step (gtest parameter names: letters and digits only).
+// The test-name suffix of each time step (gtest parameter names: letters and digits only),
+// from the step's own name (toString): "semi-implicit" → "SemiImplicit", "bdf2" → "Bdf2".
 #include "superhelix/SuperHelix.h"
 
+#include <cctype>
 #include <string>
 
 namespace hair
@@ -9,16 +11,19 @@ namespace hair
 
 inline std::string integratorTestName(Integrator integrator)
 {
-  switch (integrator)
+  std::string out;
+  bool word = true;
+  for (const char c : std::string(toString(integrator)))
   {
-  case Integrator::SemiImplicit:
-    return "SemiImplicit";
-  case Integrator::Midpoint:
-    return "Midpoint";
-  case Integrator::Bdf2:
-    return "Bdf2";
+    if (c == '-')
+    {
+      word = true;
+      continue;
+    }
+    out += word ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+    word = false;
   }
-  return "Unknown";
+  return out;
 }
 
 } // namespace hair
