@@ -45,7 +45,16 @@ export LSAN_OPTIONS="suppressions=$ROOT/Testing/Sanitizers/lsan.supp:print_suppr
 # seconds). -rss_limit_mb=4096: the reader must not use memory the file does not justify;
 # memory reserved and never touched (-malloc_limit_mb, by default the RSS limit, would count
 # it) is not a user's problem, so only what the process touches is limited.
+# The whole log goes to build-fuzz/fuzz.log; printed: the report of a failure (with its
+# stack, which a plain tail cut off) or the final statistics.
+log="$BUILD/fuzz.log"
+status=0
 "$BUILD/bin/fuzz_state_file" -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=1048576 -seed="${HAIR_FUZZ_SEED:-24}" \
-  -artifact_prefix="$BUILD/artifacts/" -print_final_stats=1 "$corpus" \
-  2>&1 | tail -n 40
-echo "fuzz.sh: build $((built - start)) s, fuzzing ${SECONDS_TO_RUN} s"
+  -artifact_prefix="$BUILD/artifacts/" -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
+if [ "$status" -ne 0 ]; then
+  sed -n '/^==[0-9]*==\(ERROR\|WARNING\)\|^SUMMARY\|runtime error\|ALARM\|Test unit written/,$p' "$log" | head -n 120
+else
+  tail -n 12 "$log"
+fi
+echo "fuzz.sh: build $((built - start)) s, fuzzing ${SECONDS_TO_RUN} s, log $log"
+exit "$status"

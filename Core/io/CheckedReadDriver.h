@@ -9,7 +9,14 @@
 // makes HDF5 copy memory it does not own. No HDF5 call tells the caller where a string's
 // collection is before it reads it, but every read passes through the file driver, which
 // sees the collection's bytes first: this one refuses the read (so HDF5 returns an error)
-// when the collection's walk would not end inside it. docs/robustness.md.
+// when the collection's walk would not end inside it.
+//
+// Likewise version 1 object headers (the default format's, h5py's), which carry no checksum:
+// HDF5 1.10.8 decodes an attribute or dataspace message with the sizes its fields declare,
+// without comparing them with the message's own size, so a damaged field makes it copy
+// memory it does not own. The driver sees each object header chunk as it is read (the
+// chunks' addresses from their continuation messages) and refuses one holding such a
+// message. Version 2 headers carry a checksum HDF5 verifies first. docs/robustness.md.
 #include "common/Status.h"
 
 #include <hdf5.h>
@@ -31,5 +38,13 @@ hid_t checkedReadAccess(unsigned metadataReadAttempts);
 /// header and ending inside it. Assumes 8-byte lengths (the reader refuses files with any
 /// other). Bytes that do not begin with the signature are not a collection: Ok.
 Status checkGlobalHeapCollection(const unsigned char* bytes, std::size_t size);
+
+/// Whether the messages of a version 1 object header chunk (`bytes`, `size` of them, the
+/// messages only: the 16-byte prefix of a header's first chunk left out) are ones HDF5 1.10.8
+/// can decode without reading past them: each attribute message's name, datatype, dataspace
+/// and values, and each dataspace message's dimensions, inside the message (File Format
+/// Specification 3.0, IV.A.1.a and IV.A.2.b, .m). Messages that do not fit the chunk, and
+/// other kinds, are left to HDF5, which checks those itself. Assumes 8-byte lengths.
+Status checkObjectHeaderMessages(const unsigned char* bytes, std::size_t size);
 
 } // namespace hair::hdf5

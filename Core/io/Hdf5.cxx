@@ -106,7 +106,12 @@ const char* className(H5T_class_t c)
 Status openOne(hid_t obj, const char* name, H5T_class_t wanted, Handle& attr, Handle& type)
 {
   const std::string what = std::string("its attribute '") + name + "' ";
-  if (H5Aexists(obj, name) <= 0)
+  const htri_t exists = H5Aexists(obj, name);
+  if (exists < 0)
+  {
+    return Status::Error(what + "cannot be read (the object header holding it is damaged)");
+  }
+  if (exists == 0)
   {
     return Status::Error(what + "is missing");
   }

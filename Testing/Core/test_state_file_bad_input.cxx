@@ -819,3 +819,124 @@ TEST(StateFileBadInput, ADatasetWithoutItsValuesInTheFileIsRefused)
              }),
       "/frames/positions: the space it has in the file does not hold its values");
 }
+
+namespace
+{
+/// A version 1 object header's attribute message (File Format Specification 3.0, IV.A.2.m,
+/// version 1: each part padded to 8 bytes) holding `values` 4-byte integers in a dataspace of
+/// rank 1, its 8-byte message header first.
+std::vector<unsigned char> attributeMessage(std::uint32_t values, std::uint16_t spaceBytes = 16)
+{
+  std::vector<unsigned char> d = {1, 0, 2, 0, 12, 0, 0, 0, 'n', 0, 0, 0, 0, 0, 0, 0};
+  d[6] = static_cast<unsigned char>(spaceBytes);
+  d[7] = static_cast<unsigned char>(spaceBytes >> 8);
+  const unsigned char type[16] = {0x10, 0x08, 0, 0, 4, 0, 0, 0, 0, 0, 32, 0}; // 32-bit integer
+  d.insert(d.end(), type, type + 16);
+  unsigned char space[16] = {1, 1, 0, 0, 0, 0, 0, 0}; // version 1, rank 1, then the extent
+  std::memcpy(space + 8, &values, 4);
+  d.insert(d.end(), space, space + 16);
+  d.resize(d.size() + 4 * std::size_t(values));
+  d.resize((d.size() + 7) & ~std::size_t(7));
+  std::vector<unsigned char> m(8, 0);
+  m[0] = 0x0C; // attribute
+  m[2] = static_cast<unsigned char>(d.size());
+  m[3] = static_cast<unsigned char>(d.size() >> 8);
+  m.insert(m.end(), d.begin(), d.end());
+  return m;
+}
+
+bool messagesDecodable(const std::vector<unsigned char>& m)
+{
+  return hdf5::checkObjectHeaderMessages(m.data(), m.size()).ok();
+}
+} // namespace
+
+TEST(StateFileBadInput, Version1ObjectHeaderMessagesAreCheckedAsHdf5DecodesThem)
+{
+  // HDF5 1.10.8 decodes an attribute message with the sizes its fields declare; CI's fuzzer
+  // found a file whose dataspace size field said 2048 where 8 bytes were there, and HDF5
+  // copied the value from 928 bytes past its buffer (Testing/Fuzz/regressions/
+  // crash-v1-attribute-dataspace-size).
+  EXPECT_TRUE(messagesDecodable(attributeMessage(1)));
+  EXPECT_TRUE(messagesDecodable(attributeMessage(5)));
+  EXPECT_FALSE(messagesDecodable(attributeMessage(1, 2048))); // the fuzzer's
+  std::vector<unsigned char> m = attributeMessage(3);
+  std::uint32_t more = 1000;                // values past the message
+  std::memcpy(m.data() + 8 + 40, &more, 4); // the extent, after the 8-byte space header
+  EXPECT_FALSE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m[8 + 8] = 'x'; // a name without its terminating zero
+  m[8 + 9] = 'y';
+  EXPECT_FALSE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m[8 + 4] = 200; // a datatype running past the message
+  EXPECT_FALSE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m[8 + 32 + 1] = 33; // rank above HDF5's 32
+  EXPECT_FALSE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m[4] = 0x02; // shared: a reference HDF5 reads on its own
+  m[8 + 6] = 0xff;
+  EXPECT_TRUE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m[0] = 0x03; // a datatype message: left to HDF5
+  m[8 + 6] = 0xff;
+  EXPECT_TRUE(messagesDecodable(m));
+  m = attributeMessage(1);
+  m.resize(m.size() - 8); // a message longer than the bytes given: HDF5 checks it itself
+  EXPECT_TRUE(messagesDecodable(m));
+}
+
+namespace sf = stateformat;
+
+TEST(StateFileBadInput, ADamagedVersion1AttributeIsRefusedNotOverread)
+{
+  // A file in HDF5's default (earliest) format, as h5py and the C library write by default:
+  // version 1 object headers, no checksums.
+  const std::string path = temp("v1-header.h5");
+  {
+    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t text = H5Tcopy(H5T_C_S1);
+    H5Tset_size(text, std::strlen(sf::Name));
+    const hid_t a = H5Acreate2(f, sf::FormatAttribute, text, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, text, sf::Name);
+    H5Aclose(a);
+    const int version = sf::Version;
+    const hid_t b =
+        H5Acreate2(f, sf::VersionAttribute, H5T_STD_I32LE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(b, H5T_NATIVE_INT, &version);
+    H5Aclose(b);
+    H5Tclose(text);
+    H5Sclose(scalar);
+    H5Fclose(f);
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The version attribute's message: its name follows the 8 bytes of the message's fields.
+  const std::size_t name = bytes.find(std::string(sf::VersionAttribute) + '\0');
+  ASSERT_NE(name, std::string::npos);
+  ASSERT_EQ(bytes[name - 8], 1) << "a version 1 attribute message";
+  const auto open = [](const std::string& file)
+  {
+    StateFileReader r;
+    return r.open(file);
+  };
+  const Status intact = open(path);
+  ASSERT_FALSE(intact.ok()); // no datasets: refused, but past the attributes
+  EXPECT_EQ(intact.message().find("cannot be read"), std::string::npos) << intact.message();
+
+  std::string damaged = bytes;
+  damaged[name - 2] = 0; // the dataspace's size, 8 bytes, declared 2048
+  damaged[name - 1] = 8;
+  const std::string copy = temp("v1-header-sized.h5");
+  std::ofstream(copy, std::ios::binary) << damaged;
+  const Status s = open(copy);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find(copy), std::string::npos) << s.message();
+  EXPECT_NE(s.message().find("is damaged"), std::string::npos) << s.message();
+}
