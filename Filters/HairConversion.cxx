@@ -795,48 +795,56 @@ Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCu
   return Status::Ok();
 }
 
-void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output)
+RenderedHairArrays prepareRenderedHair(vtkPolyData* output, vtkIdType strands, int n,
+                                       const std::vector<std::string>& scalarNames,
+                                       vtkSmartPointer<vtkCellArray>& lines)
 {
-  const vtkIdType strands = static_cast<vtkIdType>(hair.strandCount());
-  const vtkIdType n = hair.pointsPerStrand, P = strands * n;
+  const vtkIdType P = strands * n;
+  RenderedHairArrays arrays;
+  output->Initialize();
   vtkNew<vtkFloatArray> xyz;
   xyz->SetNumberOfComponents(3);
   xyz->SetNumberOfTuples(P);
-  std::copy(hair.points.begin(), hair.points.end(), xyz->GetPointer(0));
+  arrays.points = xyz->GetPointer(0);
   vtkNew<vtkPoints> points;
   points->SetData(xyz);
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(strands + 1);
-  connectivity->SetNumberOfTuples(P);
-  for (vtkIdType r = 0; r <= strands; ++r)
-  {
-    offsets->SetValue(r, r * n);
-  }
-  for (vtkIdType i = 0; i < P; ++i)
-  {
-    connectivity->SetValue(i, i);
-  }
-  vtkNew<vtkCellArray> lines;
-  lines->SetData(offsets, connectivity);
-  output->Initialize();
   output->SetPoints(points);
+  // The lines depend only on the counts: made once and shared by every frame's output.
+  if (!lines || lines->GetNumberOfCells() != strands || lines->GetNumberOfConnectivityIds() != P)
+  {
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfTuples(strands + 1);
+    connectivity->SetNumberOfTuples(P);
+    for (vtkIdType r = 0; r <= strands; ++r)
+    {
+      offsets->SetValue(r, r * n);
+    }
+    for (vtkIdType i = 0; i < P; ++i)
+    {
+      connectivity->SetValue(i, i);
+    }
+    lines = vtkSmartPointer<vtkCellArray>::New();
+    lines->SetData(offsets, connectivity);
+  }
   output->SetLines(lines);
 
-  auto floats = [&](const char* name, int components, const std::vector<float>& values)
+  auto floats = [&](const char* name, int components)
   {
     vtkNew<vtkFloatArray> a;
     a->SetName(name);
     a->SetNumberOfComponents(components);
-    a->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / components));
-    std::copy(values.begin(), values.end(), a->GetPointer(0));
+    a->SetNumberOfTuples(P);
     output->GetPointData()->AddArray(a);
     return a.GetPointer();
   };
-  floats("Tangent", 3, hair.tangents);
-  output->GetPointData()->SetScalars(floats("ArcParameter", 1, hair.parameter));
-  for (const auto& [name, values] : hair.scalars)
+  arrays.tangents = floats("Tangent", 3)->GetPointer(0);
+  vtkFloatArray* parameter = floats("ArcParameter", 1);
+  output->GetPointData()->SetScalars(parameter);
+  arrays.parameter = parameter->GetPointer(0);
+  for (const std::string& name : scalarNames)
   {
-    floats(name == "curvature" ? "Curvature" : name.c_str(), 1, values);
+    arrays.scalars.push_back(
+        floats(name == "curvature" ? "Curvature" : name.c_str(), 1)->GetPointer(0));
   }
   vtkNew<vtkIntArray> strandId, guideId;
   strandId->SetName("StrandId");
@@ -846,10 +854,15 @@ void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output)
   for (vtkIdType r = 0; r < strands; ++r)
   {
     strandId->SetValue(r, static_cast<int>(r));
-    guideId->SetValue(r, hair.guide[r]);
   }
+  arrays.guide = guideId->GetPointer(0);
   output->GetCellData()->AddArray(strandId);
   output->GetCellData()->AddArray(guideId);
+  return arrays;
+}
+
+void addPushOutCounts(const PushOutCounts& counts, vtkPolyData* output)
+{
   auto field = [&](const char* name, double value)
   {
     vtkNew<vtkDoubleArray> a;
@@ -857,9 +870,10 @@ void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output)
     a->InsertNextValue(value);
     output->GetFieldData()->AddArray(a);
   };
-  field("PointsPushedOut", double(hair.pushedOut));
-  field("DeepestBeforePushOut", hair.deepest);
-  field("PointsInsideAfterPushOut", double(hair.stillInside));
+  field("PointsLookedUp", double(counts.lookedUp));
+  field("PointsPushedOut", double(counts.pushedOut));
+  field("DeepestBeforePushOut", counts.deepest);
+  field("PointsInsideAfterPushOut", double(counts.stillInside));
 }
 
 } // namespace convert

@@ -10,6 +10,10 @@
 #include "simulation/GuideDrawing.h"
 #include "strands/GuideStrand.h"
 
+#include <vtkCellArray.h>
+#include <vtkSmartPointer.h>
+#include <vtkType.h>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -85,10 +89,18 @@ Status toCurves(vtkPolyData* input, std::vector<std::vector<Eigen::Vector3d>>& c
 /// present; Speed and curvature carried when present). Refuses what toGuides refuses.
 Status toGuideCurves(vtkPolyData* input, std::vector<GuideStrand>& rest, GuideCurves& curves);
 
-/// Rendered hair as polylines: float points, point data Tangent, ArcParameter and the
-/// carried scalars, cell data StrandId and GuideId; field data PointsPushedOut,
-/// DeepestBeforePushOut (m) and PointsInsideAfterPushOut.
-void fromRenderedHair(const RenderedHair& hair, vtkPolyData* output);
+/// The output of rendered hair laid out for `strands` polylines of `n` points, its arrays
+/// made and handed back as where HairInterpolation::evaluate writes (no copy): float points,
+/// point data Tangent, ArcParameter and one per carried scalar (`scalarNames`, the guides'
+/// order; "curvature" named Curvature), cell data StrandId and GuideId. `lines`, the
+/// polylines' cells, is kept by the caller and made again only when the counts change.
+RenderedHairArrays prepareRenderedHair(vtkPolyData* output, vtkIdType strands, int n,
+                                       const std::vector<std::string>& scalarNames,
+                                       vtkSmartPointer<vtkCellArray>& lines);
+
+/// Field data PointsLookedUp, PointsPushedOut, DeepestBeforePushOut (m) and
+/// PointsInsideAfterPushOut.
+void addPushOutCounts(const PushOutCounts& counts, vtkPolyData* output);
 
 /// One polyline per strand (points offsets[k] … offsets[k+1]−1), point data Velocity and
 /// Speed, cell data StrandId and every per-strand parameter and vector (named as the

@@ -34,6 +34,8 @@ struct vtkHairInterpolation::Internals
   std::vector<hair::CollisionTable> Tables;
   std::vector<bool> MovesWithHead;
   vtkMTimeType TablesAt = 0;
+  /// The output's polylines, shared by every frame while the counts stay.
+  vtkSmartPointer<vtkCellArray> Lines;
 };
 
 vtkHairInterpolation::vtkHairInterpolation() : Internal(std::make_unique<Internals>())
@@ -244,8 +246,17 @@ int vtkHairInterpolation::RequestData(vtkInformation*, vtkInformationVector** in
     parts.push_back(p);
   }
 
-  hair::RenderedHair rendered;
-  const hair::Status s = in.Hair.evaluate(curves, parts, rendered,
+  // Written straight into the output's arrays.
+  std::vector<std::string> scalarNames;
+  for (const auto& entry : curves.scalars)
+  {
+    scalarNames.push_back(entry.first);
+  }
+  const hair::RenderedHairArrays arrays =
+      hair::convert::prepareRenderedHair(output, vtkIdType(in.Hair.strandCount()),
+                                         in.Hair.options().pointsPerStrand, scalarNames, in.Lines);
+  hair::PushOutCounts counts;
+  const hair::Status s = in.Hair.evaluate(curves, parts, arrays, counts,
                                           [this](double f)
                                           {
                                             this->UpdateProgress(f);
@@ -253,10 +264,11 @@ int vtkHairInterpolation::RequestData(vtkInformation*, vtkInformationVector** in
                                           });
   if (!s)
   {
+    output->Initialize();
     vtkErrorMacro(<< "Hair Interpolation: " << s.message());
     return 0;
   }
-  hair::convert::fromRenderedHair(rendered, output);
+  hair::convert::addPushOutCounts(counts, output);
   if (ranks.parallel())
   {
     // GuideId: the guide's StrandId, not its place in this piece.

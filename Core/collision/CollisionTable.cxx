@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace hair
@@ -187,6 +188,70 @@ void CollisionTable::updateReach()
   }
 }
 
+double CollisionTable::windowReach(const Eigen::Vector3d& p, double delta) const
+{
+  constexpr double Unbounded = std::numeric_limits<double>::infinity();
+  if (Hit.empty() || !p.allFinite() || !(delta >= 0))
+  {
+    return Unbounded;
+  }
+  const Eigen::Vector3d local = Basis.transpose() * (p - Spec.frame.origin);
+  const double rxy = std::sqrt(local.x() * local.x() + local.y() * local.y());
+  const int na = Spec.azimuthSamples, ns = Spec.secondSamples;
+  // Rows: the heights h ± δ, or the polar angles φ ± asin(δ / ρ) (the ball seen from the
+  // centre); the last row a point can use is the one after the cell it falls in.
+  int j0, j1;
+  if (Spec.projection == Projection::Cylindrical)
+  {
+    const double cell = (Spec.heightMax - Spec.heightMin) / (ns - 1);
+    j0 = int(std::floor((local.z() - delta - Spec.heightMin) / cell));
+    j1 = int(std::floor((local.z() + delta - Spec.heightMin) / cell)) + 1;
+  }
+  else
+  {
+    const double rho = local.norm();
+    if (delta >= rho)
+    {
+      return Unbounded;
+    }
+    const double cone = std::asin(delta / rho), phi = std::atan2(rxy, local.z());
+    const double cell = Pi / (ns - 1);
+    j0 = int(std::floor((phi - cone) / cell));
+    j1 = int(std::floor((phi + cone) / cell)) + 1;
+  }
+  j0 = std::max(j0, 0);
+  j1 = std::min(j1, ns - 1);
+  // Azimuths: θ ± asin(δ / r_xy), the ball's shadow on the plane across the axis; all of
+  // them when the ball holds the axis.
+  int i0 = 0, i1 = na - 1;
+  if (delta < rxy)
+  {
+    const double turn = std::asin(delta / rxy), cell = TwoPi / na;
+    double th = std::atan2(local.y(), local.x());
+    th = th < 0 ? th + TwoPi : th;
+    i0 = int(std::floor((th - turn) / cell));
+    i1 = int(std::floor((th + turn) / cell)) + 1;
+    if (i1 - i0 >= na)
+    {
+      i0 = 0;
+      i1 = na - 1;
+    }
+  }
+  double r = 0;
+  for (int j = j0; j <= j1; ++j)
+  {
+    for (int i = i0; i <= i1; ++i)
+    {
+      const int k = index(((i % na) + na) % na, j);
+      if (Hit[k])
+      {
+        r = std::max(r, Outer[k]);
+      }
+    }
+  }
+  return r;
+}
+
 double CollisionTable::azimuth(int i) const
 {
   return TwoPi * i / Spec.azimuthSamples;
@@ -346,6 +411,16 @@ Status CollisionTable::assign(const TableSpec& spec, std::vector<std::uint8_t> h
 
 TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
 {
+  return lookUp(p, false);
+}
+
+bool CollisionTable::inside(const Eigen::Vector3d& p) const
+{
+  return lookUp(p, true).inside;
+}
+
+TableQuery CollisionTable::lookUp(const Eigen::Vector3d& p, bool insideOnly) const
+{
   TableQuery q;
   if (Hit.empty() || !p.allFinite())
   {
@@ -434,6 +509,10 @@ TableQuery CollisionTable::query(const Eigen::Vector3d& p) const
   q.surfaceRadius = outer;
   q.innerRadius = inner;
   q.inside = radius < outer && (inner <= 0 || radius > inner);
+  if (insideOnly)
+  {
+    return q;
+  }
   // The nearer of the two surfaces along the ray; the inner one exists only where the solid
   // does not hold the axis (inner > 0). Only that surface's normal is interpolated.
   const bool useInner = inner > 0 && (radius - inner) < (outer - radius);

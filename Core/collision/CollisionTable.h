@@ -96,8 +96,13 @@ public:
   /// Looks up a point given in the table's frame coordinates (world coordinates of the
   /// part at rest). One cell look-up: cost independent of the mesh.
   TableQuery query(const Eigen::Vector3d& p) const;
+  /// query(p).inside, without the surface point and normal: the cheaper test for a point
+  /// that is most likely outside.
+  bool inside(const Eigen::Vector3d& p) const;
 
   const TableSpec& spec() const { return Spec; }
+  /// spec().frame.basis(), kept: columns (reference⊥, axis × reference⊥, unit axis).
+  const Eigen::Matrix3d& basis() const { return Basis; }
   bool empty() const { return Hit.empty(); }
   int numberOfHits() const;
   /// Sample index of (azimuth i, second j).
@@ -118,8 +123,16 @@ public:
   /// The largest outer radius of the samples that met the part: no point farther from the
   /// axis (cylindrical) or the centre (spherical) is inside it.
   double reach() const { return Reach; }
+  /// The largest outer radius of the samples whose cells a point within `delta` of p (frame
+  /// coordinates) can fall in: the window of heights h ± δ (cylindrical) or polar angles
+  /// φ ± asin(δ/ρ) (spherical) and azimuths θ ± asin(δ/r_xy), all azimuths when the ball
+  /// holds the axis. A point within δ of p that is farther than this from the axis (or
+  /// centre) is outside the part, without a look-up. +∞ for a spherical table's ball that
+  /// holds the centre. What lets the rendered hair skip the look-up of a point near a guide.
+  double windowReach(const Eigen::Vector3d& p, double delta) const;
 
 private:
+  TableQuery lookUp(const Eigen::Vector3d& p, bool insideOnly) const; ///< query and inside
   void updateDerived(); ///< basis and scales that follow from Spec (query's hot path)
   void updateReach();   ///< Reach, from the samples
   TableSpec Spec;

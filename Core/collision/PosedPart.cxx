@@ -1,7 +1,5 @@
 #include "collision/PosedPart.h"
 
-#include <algorithm>
-
 namespace hair
 {
 
@@ -17,7 +15,7 @@ bool nearAtRest(const CollisionTable& table, const Eigen::Vector3d& rest, double
   {
     return rel.squaredNorm() <= reach * reach;
   }
-  const Eigen::Vector3d a = spec.frame.axis.normalized();
+  const Eigen::Vector3d a = table.basis().col(2);
   const double h = rel.dot(a);
   return h >= spec.heightMin && h <= spec.heightMax && (rel - h * a).squaredNorm() <= reach * reach;
 }
@@ -86,6 +84,19 @@ bool deepestPart(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, 
     }
   }
   return any;
+}
+
+bool insideAny(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x)
+{
+  for (const PosedPart& part : parts)
+  {
+    const Eigen::Vector3d rest = part.toRest(x);
+    if (nearAtRest(*part.table, rest, 0) && part.table->inside(rest))
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 bool insideDepth(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, double& depth)

@@ -56,6 +56,9 @@ struct PartContact
 bool deepestPart(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, double slack,
                  PartContact& contact);
 
+/// Whether x is inside any of the parts (the table's inside test alone: no depth, no normal).
+bool insideAny(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x);
+
 /// Whether x is inside any of the parts, and the largest depth among those it is inside
 /// (0 when inside none): the penetration measure of a point.
 bool insideDepth(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, double& depth);

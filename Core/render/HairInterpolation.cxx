@@ -24,6 +24,12 @@ double smoothstep(double x)
   return x * x * (3 - 2 * x);
 }
 
+float smoothstepf(float x)
+{
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x * x * (3 - 2 * x);
+}
+
 /// The `k` guides nearest to x (fewer when there are fewer), nearest first (ties by index),
 /// with their distances.
 void nearestGuides(const UniformGrid& grid, const std::vector<Eigen::Vector3d>& roots,
@@ -342,6 +348,45 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
 {
   if (!isBound())
     return Status::Error("bind the rendered strands to guides first.");
+  const std::size_t strands = Roots.size(), n = std::size_t(Options.pointsPerStrand);
+  RenderedHair hair;
+  hair.pointsPerStrand = Options.pointsPerStrand;
+  hair.points.resize(strands * n * 3);
+  hair.tangents.resize(strands * n * 3);
+  hair.parameter.resize(strands * n);
+  hair.guide.resize(strands);
+  RenderedHairArrays arrays;
+  arrays.points = hair.points.data();
+  arrays.tangents = hair.tangents.data();
+  arrays.parameter = hair.parameter.data();
+  arrays.guide = hair.guide.data();
+  for (const auto& entry : guides.scalars)
+  {
+    std::vector<float>& values = hair.scalars[entry.first];
+    values.resize(strands * n);
+    arrays.scalars.push_back(values.data());
+  }
+  PushOutCounts counts;
+  if (Status s = evaluate(guides, parts, arrays, counts, progress); !s)
+    return s;
+  hair.pushedOut = counts.pushedOut;
+  hair.deepest = counts.deepest;
+  hair.stillInside = counts.stillInside;
+  hair.deepestAfter = counts.deepestAfter;
+  hair.lookedUp = counts.lookedUp;
+  out = std::move(hair);
+  return Status::Ok();
+}
+
+Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts,
+                                   const RenderedHairArrays& out, PushOutCounts& counts,
+                                   const Progress& progress) const
+{
+  if (!isBound())
+    return Status::Error("bind the rendered strands to guides first.");
+  if (out.points == nullptr || out.scalars.size() != guides.scalars.size())
+    return Status::Error("the rendered hair's arrays are not given (points, and one per guide "
+                         "scalar).");
   const std::size_t G = guides.size();
   if (G != RestRoots.size())
     return Status::Error("the rendered hair was bound to " + std::to_string(RestRoots.size()) +
@@ -484,27 +529,113 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
         }
       });
 
-  const std::size_t strands = Roots.size();
-  RenderedHair hair;
-  hair.pointsPerStrand = n;
-  hair.points.resize(strands * n * 3);
-  hair.tangents.resize(strands * n * 3);
-  hair.parameter.resize(strands * n);
-  hair.guide.resize(strands);
-  for (const auto& entry : guides.scalars)
-    hair.scalars[entry.first].resize(strands * n);
-  std::vector<std::vector<float>*> outScalars;
-  for (auto& entry : hair.scalars)
-    outScalars.push_back(&entry.second);
+  // What the per-point work reads, in single precision, once per guide per frame: each
+  // sample's position (relative to the first guide's root, so that floats keep ~0.1 µm on a
+  // body a metre from the origin) and frame as four 4-float rows, its scalars, and, per
+  // body part, the table's window reach about it for two ball radii
+  // (CollisionTable::windowReach): a rendered point within the ball about its clump guide's
+  // sample and farther from every part's axis or centre than that reach is outside the body,
+  // and is not looked up.
+  const Eigen::Vector3d origin = guides.points[guides.offsets[0]];
+  PushOutSkip skip;
+  skip.parts = int(parts.size());
+  for (const PosedPart& part : parts)
+  {
+    const TableSpec& spec = part.table->spec();
+    PushOutSkip::Part shape;
+    const Eigen::Vector3d centre = part.pose * spec.frame.origin - origin;
+    const Eigen::Vector3d axis = part.pose.linear() * spec.frame.axis.normalized();
+    shape.centre << float(centre.x()), float(centre.y()), float(centre.z()), 0.0f;
+    shape.axis << float(axis.x()), float(axis.y()), float(axis.z()), 0.0f;
+    shape.cylindrical = spec.projection == Projection::Cylindrical;
+    skip.shapes.push_back(shape);
+  }
+  std::vector<GuideSample> samples(G * std::size_t(M));
+  std::vector<float> sampleScalars(G * std::size_t(M) * S);
+  skip.reach.assign(G * std::size_t(M) * parts.size() * PushOutSkip::Balls, 0.0f);
+  parallelBlocks(
+      static_cast<std::int64_t>(G), 8, Options.threads,
+      [&](std::int64_t begin, std::int64_t end)
+      {
+        for (std::int64_t g = begin; g < end; ++g)
+        {
+          const Resampled& c = curves[g];
+          for (int j = 0; j < M; ++j)
+          {
+            const std::size_t k = std::size_t(g) * M + j;
+            GuideSample& out = samples[k];
+            const Eigen::Vector3d x = c.position[j] - origin;
+            out.row[0] << float(x.x()), float(x.y()), float(x.z()), 0.0f;
+            for (int a = 0; a < 3; ++a)
+              out.row[1 + a] << float(c.frame[j](0, a)), float(c.frame[j](1, a)),
+                  float(c.frame[j](2, a)), 0.0f;
+            for (int q = 0; q < S; ++q)
+              sampleScalars[k * S + q] = float(c.scalars[std::size_t(j) * S + q]);
+            for (std::size_t part = 0; part < parts.size(); ++part)
+            {
+              const Eigen::Vector3d rest = parts[part].toRest(c.position[j]);
+              for (int ball = 0; ball < PushOutSkip::Balls; ++ball)
+              {
+                // Squared, with a margin for the float arithmetic of the test.
+                const double r = parts[part].table->windowReach(rest, PushOutSkip::Radius[ball]) +
+                                 PushOutSkip::FloatMargin;
+                skip.reach[(k * parts.size() + part) * PushOutSkip::Balls + ball] =
+                    std::isfinite(r) ? float(r * r) : std::numeric_limits<float>::infinity();
+              }
+            }
+          }
+        }
+      });
+  return fill(samples, sampleScalars, skip, tips, origin, parts, out, counts, progress);
+}
 
+constexpr double HairInterpolation::PushOutSkip::Radius[Balls];
+
+bool HairInterpolation::PushOutSkip::outside(std::size_t k, const Eigen::Array4f& point,
+                                             const std::vector<GuideSample>& samples) const
+{
+  const float d2 = (point - samples[k].row[0]).matrix().squaredNorm();
+  int ball = 0;
+  while (ball < Balls && !(d2 < float(Radius[ball] * Radius[ball])))
+    ++ball;
+  if (ball == Balls)
+    return false;
+  for (int part = 0; part < parts; ++part)
+  {
+    const Part& shape = shapes[std::size_t(part)];
+    const Eigen::Array4f d = point - shape.centre;
+    float rho2 = d.matrix().squaredNorm();
+    if (shape.cylindrical)
+    {
+      const float along = (d * shape.axis).sum();
+      rho2 -= along * along;
+    }
+    if (!(rho2 > reach[(k * std::size_t(parts) + std::size_t(part)) * Balls + ball]))
+      return false;
+  }
+  return true;
+}
+
+Status HairInterpolation::fill(const std::vector<GuideSample>& samples,
+                               const std::vector<float>& sampleScalars, const PushOutSkip& skip,
+                               const std::vector<Eigen::Vector3d>& tips,
+                               const Eigen::Vector3d& origin, const std::vector<PosedPart>& parts,
+                               const RenderedHairArrays& out, PushOutCounts& counts,
+                               const Progress& progress) const
+{
+  const int n = Options.pointsPerStrand;
+  const int M = 2 * (n - 1) + 1;
+  const int S = static_cast<int>(out.scalars.size());
+  const std::size_t strands = Roots.size();
   const bool clusters = Options.method == InterpolationMethod::Clusters;
   const double T = Options.tipDistance;
+  const float clumpStart = float(ClumpStart), clumpEnd = float(ClumpEnd);
   // Strands in chunks, each on all threads, with progress (and abort) between chunks on
   // the calling thread. Per block: its push-out counts, merged in block order.
   const std::int64_t grain = 256;
   const std::int64_t chunk = 64 * grain;
-  std::vector<long> pushed(blockCount(strands, grain), 0), inside(pushed.size(), 0);
-  std::vector<double> deepest(pushed.size(), 0), deepestAfter(pushed.size(), 0);
+  const std::size_t blocks = std::size_t(blockCount(std::int64_t(strands), grain));
+  std::vector<PushOutCounts> perBlock(blocks);
   for (std::int64_t first = 0; first < std::int64_t(strands); first += chunk)
   {
     const std::int64_t last = std::min<std::int64_t>(strands, first + chunk);
@@ -512,118 +643,145 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
         last - first, grain, Options.threads,
         [&](std::int64_t begin, std::int64_t end)
         {
-          const std::int64_t block = (first + begin) / grain;
-          std::vector<Eigen::Vector3d> p(n);
-          std::vector<double> value(S);
+          PushOutCounts& tally = perBlock[std::size_t((first + begin) / grain)];
+          std::vector<Eigen::Array4f> p(n);
+          std::vector<float> value(S);
           for (std::int64_t r = first + begin; r < first + end; ++r)
           {
             const Binding& b = Roots[r];
             const int c = b.guides[b.clump];
             // Guides whose tips have parted from the clump guide's stop weighing in.
-            double w[8], sum = 0;
+            float w[8];
+            double sum = 0, raw[8];
             for (int i = 0; i < b.count; ++i)
             {
               const double d = (tips[b.guides[i]] - tips[c]).norm();
-              w[i] = b.weights[i] * (1 - smoothstep((d - T) / T));
-              sum += w[i];
+              raw[i] = b.weights[i] * (1 - smoothstep((d - T) / T));
+              sum += raw[i];
             }
             for (int i = 0; i < b.count; ++i)
-              w[i] = sum > 0 ? w[i] / sum : (i == b.clump ? 1.0 : 0.0);
+              w[i] = float(sum > 0 ? raw[i] / sum : (i == b.clump ? 1.0 : 0.0));
+            Eigen::Array4f offset[8];
+            for (int i = 0; i < b.count; ++i)
+              offset[i] << float(b.offsets[i].x()), float(b.offsets[i].y()),
+                  float(b.offsets[i].z()), 0.0f;
+            Eigen::Array4f clumpOffset;
+            clumpOffset << float(b.clumpOffset.x()), float(b.clumpOffset.y()),
+                float(b.clumpOffset.z()), 0.0f;
+            const float length = float(b.length);
             for (int j = 0; j < n; ++j)
             {
-              const double u = b.length * j / (n - 1);
-              const double x = u * (M - 1);
+              const float u = length * float(j) / float(n - 1);
+              const float x = u * float(M - 1);
               const int i0 = std::min(static_cast<int>(x), M - 2);
-              const double f = x - i0;
-              auto carried = [&](int g, const Eigen::Vector3d& offset)
-              {
-                const Resampled& cv = curves[g];
-                return Eigen::Vector3d((1 - f) * (cv.position[i0] + cv.frame[i0] * offset) +
-                                       f * (cv.position[i0 + 1] + cv.frame[i0 + 1] * offset));
-              };
+              const float f = x - float(i0);
               // 0 where the guides are interpolated, 1 where the strand follows its clump.
-              const double profile =
-                  smoothstep(ClumpEnd > ClumpStart ? (u - ClumpStart) / (ClumpEnd - ClumpStart)
-                                                   : (u >= ClumpStart ? 1.0 : 0.0));
-              const double blend = clusters ? 1.0 : profile;
-              const Eigen::Vector3d clumpOffset =
-                  (1 - profile) * b.offsets[b.clump] + profile * b.clumpOffset;
-              Eigen::Vector3d point = blend * carried(c, clumpOffset);
-              for (int q = 0; q < S; ++q)
-                value[q] = blend * ((1 - f) * curves[c].scalars[std::size_t(i0) * S + q] +
-                                    f * curves[c].scalars[std::size_t(i0 + 1) * S + q]);
+              const float profile =
+                  smoothstepf(clumpEnd > clumpStart ? (u - clumpStart) / (clumpEnd - clumpStart)
+                                                    : (u >= clumpStart ? 1.0f : 0.0f));
+              const float blend = clusters ? 1.0f : profile;
+              Eigen::Array4f point = Eigen::Array4f::Zero();
+              std::fill(value.begin(), value.end(), 0.0f);
+              // One guide's sample carried by an offset in its frame, lerped between the two
+              // samples about u, weighted by a: four multiply-adds of 4 floats per sample.
+              const auto add = [&](int g, const Eigen::Array4f& o, float a)
+              {
+                const std::size_t k = std::size_t(g) * M + i0;
+                const GuideSample& s0 = samples[k];
+                const GuideSample& s1 = samples[k + 1];
+                const float a0 = a * (1 - f), a1 = a * f;
+                point +=
+                    a0 * (s0.row[0] + o.x() * s0.row[1] + o.y() * s0.row[2] + o.z() * s0.row[3]) +
+                    a1 * (s1.row[0] + o.x() * s1.row[1] + o.y() * s1.row[2] + o.z() * s1.row[3]);
+                const float* v0 = &sampleScalars[k * S];
+                for (int q = 0; q < S; ++q)
+                  value[q] += a0 * v0[q] + a1 * v0[S + q];
+              };
+              if (blend > 0)
+                add(c, (1 - profile) * offset[b.clump] + profile * clumpOffset, blend);
               if (blend < 1)
               {
                 for (int i = 0; i < b.count; ++i)
-                {
-                  if (w[i] == 0)
-                    continue;
-                  const int g = b.guides[i];
-                  point += (1 - blend) * w[i] * carried(g, b.offsets[i]);
-                  for (int q = 0; q < S; ++q)
-                    value[q] += (1 - blend) * w[i] *
-                                ((1 - f) * curves[g].scalars[std::size_t(i0) * S + q] +
-                                 f * curves[g].scalars[std::size_t(i0 + 1) * S + q]);
-                }
+                  if (w[i] != 0)
+                    add(b.guides[i], offset[i], (1 - blend) * w[i]);
               }
-              // Out of the body: one look-up where a part is near; a point moved out of
-              // one part into another (the neck, where head and trunk meet) or left inside
-              // by the table's curvature is moved again, up to eight times.
+              // Out of the body: skipped where the point lies in a ball about its clump
+              // guide's nearer sample and beyond every part's window reach there; otherwise
+              // one look-up where a part is near, and a point moved out of one part into
+              // another (the neck, where head and trunk meet) or left inside by the table's
+              // curvature is moved again, up to eight times.
               if (!parts.empty())
               {
-                PartContact contact;
-                bool moved = false;
-                for (int pass = 0; pass < 8; ++pass)
+                const bool clear =
+                    skip.outside(std::size_t(c) * M + i0 + (f < 0.5f ? 0 : 1), point, samples);
+                // Most points looked up are outside: the inside test alone says so; the
+                // full query (depth, normal) only for a point inside a part.
+                if (!clear)
                 {
-                  if (!deepestPart(parts, point, 0, contact) || contact.depth <= 0)
-                    break;
-                  if (!moved)
-                    deepest[block] = std::max(deepest[block], contact.depth);
-                  moved = true;
-                  point += (contact.depth + 1e-5) * contact.normal;
-                }
-                if (moved)
-                {
-                  ++pushed[block];
-                  double depth = 0;
-                  if (insideDepth(parts, point, depth))
+                  ++tally.lookedUp;
+                  Eigen::Vector3d at = origin + point.head<3>().cast<double>().matrix();
+                  if (insideAny(parts, at))
                   {
-                    ++inside[block];
-                    deepestAfter[block] = std::max(deepestAfter[block], depth);
+                    const Eigen::Vector3d before = at;
+                    PartContact contact;
+                    bool inside = true;
+                    for (int pass = 0; pass < 8 && inside; ++pass)
+                    {
+                      if (!deepestPart(parts, at, 0, contact) || contact.depth <= 0)
+                        break;
+                      if (pass == 0)
+                        tally.deepest = std::max(tally.deepest, contact.depth);
+                      at += (contact.depth + 1e-5) * contact.normal;
+                      inside = insideAny(parts, at);
+                    }
+                    ++tally.pushedOut;
+                    double depth = 0;
+                    if (inside && insideDepth(parts, at, depth))
+                    {
+                      ++tally.stillInside;
+                      tally.deepestAfter = std::max(tally.deepestAfter, depth);
+                    }
+                    point.head<3>() += (at - before).cast<float>().array();
                   }
                 }
               }
               p[j] = point;
               const std::size_t k = std::size_t(r) * n + j;
-              hair.parameter[k] = float(double(j) / (n - 1));
+              if (out.parameter)
+                out.parameter[k] = float(j) / float(n - 1);
               for (int q = 0; q < S; ++q)
-                (*outScalars[q])[k] = float(value[q]);
+                out.scalars[q][k] = value[q];
             }
             for (int j = 0; j < n; ++j)
             {
-              const Eigen::Vector3d t =
-                  (p[std::min(j + 1, n - 1)] - p[std::max(j - 1, 0)]).normalized();
               const std::size_t k = (std::size_t(r) * n + j) * 3;
+              // Positions: the float offset from the origin added in double, then rounded.
               for (int a = 0; a < 3; ++a)
+                out.points[k + a] = float(origin[a] + double(p[j][a]));
+              if (out.tangents)
               {
-                hair.points[k + a] = float(p[j][a]);
-                hair.tangents[k + a] = float(t[a]);
+                Eigen::Vector3f t =
+                    (p[std::min(j + 1, n - 1)] - p[std::max(j - 1, 0)]).head<3>().matrix();
+                t.normalize();
+                for (int a = 0; a < 3; ++a)
+                  out.tangents[k + a] = t[a];
               }
             }
-            hair.guide[r] = c;
+            if (out.guide)
+              out.guide[r] = c;
           }
         });
     if (progress && !progress(double(last) / strands))
       return Status::Error("aborted.");
   }
-  for (std::size_t i = 0; i < pushed.size(); ++i)
+  for (const PushOutCounts& b : perBlock)
   {
-    hair.pushedOut += pushed[i];
-    hair.stillInside += inside[i];
-    hair.deepest = std::max(hair.deepest, deepest[i]);
-    hair.deepestAfter = std::max(hair.deepestAfter, deepestAfter[i]);
+    counts.pushedOut += b.pushedOut;
+    counts.stillInside += b.stillInside;
+    counts.lookedUp += b.lookedUp;
+    counts.deepest = std::max(counts.deepest, b.deepest);
+    counts.deepestAfter = std::max(counts.deepestAfter, b.deepestAfter);
   }
-  out = std::move(hair);
   return Status::Ok();
 }
 

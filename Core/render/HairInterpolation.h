@@ -83,11 +83,33 @@ struct RenderedHair
   std::vector<float> parameter; ///< 0 at the root … 1 at the tip of its strand
   std::vector<int> guide;       ///< per strand: the guide it clumps to (or copies)
   std::map<std::string, std::vector<float>> scalars;
+  long lookedUp = 0;       ///< points looked up in the tables (the others had room around them)
   long pushedOut = 0;      ///< points that were inside a body part and were pushed out
   double deepest = 0;      ///< m: the deepest of them before the push-out
   long stillInside = 0;    ///< points inside a part after the push-out
   double deepestAfter = 0; ///< m: the deepest of those
   std::size_t strandCount() const { return guide.size(); }
+};
+
+/// Where evaluate() writes one instant's rendered hair when the caller owns the arrays (the
+/// filter's VTK arrays): strandCount() × pointsPerStrand points, strand after strand.
+struct RenderedHairArrays
+{
+  float* points = nullptr;     ///< 3 per point; required
+  float* tangents = nullptr;   ///< 3 per point, unit; may be null
+  float* parameter = nullptr;  ///< 1 per point, 0 at the root … 1 at the tip; may be null
+  int* guide = nullptr;        ///< 1 per strand: the guide it clumps to; may be null
+  std::vector<float*> scalars; ///< 1 per point for each of the guides' scalars, in their order
+};
+
+/// What the push-out out of the body did in one evaluation (RenderedHair's fields).
+struct PushOutCounts
+{
+  long lookedUp = 0;
+  long pushedOut = 0;
+  double deepest = 0;
+  long stillInside = 0;
+  double deepestAfter = 0;
 };
 
 class HairInterpolation
@@ -123,6 +145,13 @@ public:
   Status evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts, RenderedHair& out,
                   const Progress& progress = {}) const;
 
+  /// The same, written into the caller's arrays (no copy), the push-out's counts added to
+  /// `counts`. The per-point work is in single precision; points agree with a double
+  /// evaluation to within 1e-5 m (docs/hair-interpolation.md).
+  Status evaluate(const GuideCurves& guides, const std::vector<PosedPart>& parts,
+                  const RenderedHairArrays& out, PushOutCounts& counts,
+                  const Progress& progress = {}) const;
+
   /// The rigid motion that takes the guides' roots from rest to where `guides` has them
   /// (least squares over the roots and, where the guides carry them, points a centimetre
   /// along their root tangents and first directors; Kabsch's fit): the pose of the head
@@ -146,6 +175,35 @@ public:
 
 private:
   struct GuideRoots;
+  /// One guide sample as the per-point work reads it: position (relative to an origin) and
+  /// the frame's three columns, each as 4 floats (the last 0).
+  struct GuideSample
+  {
+    Eigen::Array4f row[4];
+  };
+  /// Which rendered points need no look-up in the tables: per guide sample and body part,
+  /// the part's window reach about the sample for two ball radii (squared, with a margin).
+  struct PushOutSkip
+  {
+    static constexpr int Balls = 2;
+    static constexpr double Radius[Balls] = {0.008, 0.025}; ///< m
+    static constexpr double FloatMargin = 1e-5;             ///< m: far above a point's float error
+    struct Part
+    {
+      Eigen::Array4f centre, axis; ///< posed, relative to the evaluation's origin
+      bool cylindrical = true;
+    };
+    int parts = 0;
+    std::vector<Part> shapes;
+    std::vector<float> reach; ///< [sample][part][ball]
+    /// Whether `point` (relative) is certainly outside every part, judged from sample k.
+    bool outside(std::size_t k, const Eigen::Array4f& point,
+                 const std::vector<GuideSample>& samples) const;
+  };
+  Status fill(const std::vector<GuideSample>& samples, const std::vector<float>& sampleScalars,
+              const PushOutSkip& skip, const std::vector<Eigen::Vector3d>& tips,
+              const Eigen::Vector3d& origin, const std::vector<PosedPart>& parts,
+              const RenderedHairArrays& out, PushOutCounts& counts, const Progress& progress) const;
   static Status guideRoots(const std::vector<GuideStrand>& guides,
                            const InterpolationOptions& options, GuideRoots& out);
   Status bindRoots(const std::vector<GuideStrand>& guides, GuideRoots& set,

@@ -2,17 +2,22 @@
 //   BM_Interpolate/<rendered strands>/<threads>/<tables>  the demo's 200 wavy Super-Helix
 //     guides 1 s into the head shake, 32 points per rendered strand, semi-interpolation, each
 //     point pushed out of the head and trunk tables posed at that time (tables 1) or not
-//     (tables 0: the interpolation alone). Counters: rendered points,
-//     points pushed out, bytes of one frame's output.
+//     (tables 0: the interpolation alone), written into new arrays each frame as the filter
+//     does. Counters: rendered points, the fraction looked up in the tables, points pushed
+//     out and left inside, ns per point (wall), MB of one frame's output, bytes the binding
+//     keeps per strand.
 //   BM_Bind/<rendered strands>  rooting and binding (once per scalp and guides, not per frame).
 // Command and figures: docs/benchmarks.md, "Rendered hair".
 #include "DemoScene.h"
 #include "render/HairInterpolation.h"
+#include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
 
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 using namespace hair;
@@ -44,11 +49,23 @@ Frame& frame()
   options.threads = 2;
   (void)sim.initialize(f->guides, scene, options);
   (void)sim.advanceTo(31);
+  // The guides as Hair Simulation's output 0 gives them to Hair Interpolation: drawn from
+  // the state at its default 16 points per element, with material frames and curvature.
   const StateFrame& last = sim.frame(30);
-  f->curves.points = last.positions;
-  for (std::int64_t o : sim.header().offsets)
+  GuideDrawing drawn;
+  if (Status s = drawGuides(sim.header(), last, 16, 2, drawn); !s)
+  {
+    std::fprintf(stderr, "bench_hair_interpolation: %s\n", s.message().c_str());
+    std::exit(1);
+  }
+  f->curves.points = drawn.frame.positions;
+  for (std::int64_t o : drawn.header.offsets)
     f->curves.offsets.push_back(std::size_t(o));
-  f->curves.scalars["curvature"] = last.pointData.at("curvature");
+  f->curves.tangents = drawn.tangents;
+  f->curves.directors = drawn.directors;
+  for (const auto& [name, values] : drawn.frame.pointData)
+    if (name == "curvature")
+      f->curves.scalars[name] = values;
   scene.posedParts(last.time, f->parts);
   return *f;
 }
@@ -65,21 +82,40 @@ void BM_Interpolate(benchmark::State& state)
     state.SkipWithError(s.message().c_str());
     return;
   }
-  RenderedHair out;
+  // As the filter does: each frame into new, uninitialized arrays (its VTK arrays), written
+  // straight by evaluate().
   const std::vector<PosedPart> none;
+  const std::size_t points = std::size_t(o.strands) * std::size_t(o.pointsPerStrand);
+  PushOutCounts out;
   for (auto _ : state)
   {
-    if (Status s = hi.evaluate(f.curves, state.range(2) ? f.parts : none, out); !s)
+    std::unique_ptr<float[]> xyz(new float[3 * points]), tangents(new float[3 * points]),
+        parameter(new float[points]), curvature(new float[points]);
+    std::unique_ptr<int[]> guide(new int[std::size_t(o.strands)]);
+    RenderedHairArrays arrays;
+    arrays.points = xyz.get();
+    arrays.tangents = tangents.get();
+    arrays.parameter = parameter.get();
+    arrays.guide = guide.get();
+    arrays.scalars = {curvature.get()};
+    out = PushOutCounts();
+    if (Status s = hi.evaluate(f.curves, state.range(2) ? f.parts : none, arrays, out); !s)
     {
       state.SkipWithError(s.message().c_str());
       return;
     }
+    benchmark::DoNotOptimize(xyz.get());
   }
-  state.counters["points"] = double(o.strands) * o.pointsPerStrand;
+  state.counters["points"] = double(points);
+  state.counters["looked_up"] = double(out.lookedUp) / double(points);
   state.counters["pushed"] = double(out.pushedOut);
-  state.counters["MB_out"] = double(out.points.size() + out.tangents.size() + out.parameter.size() +
-                                    out.scalars.size() * out.parameter.size()) *
-                             sizeof(float) / 1e6;
+  state.counters["inside_after"] = double(out.stillInside);
+  state.counters["ns_per_point"] =
+      benchmark::Counter(double(points) * 1e-9, benchmark::Counter::kIsIterationInvariantRate |
+                                                    benchmark::Counter::kInvert);
+  state.counters["MB_out"] = double(8 * points * sizeof(float) + o.strands * sizeof(int)) / 1e6;
+  // What the binding keeps per rendered strand (HairInterpolation::bindings()).
+  state.counters["B_per_strand"] = double(sizeof(HairInterpolation::Binding));
 }
 
 void BM_Bind(benchmark::State& state)

@@ -42,6 +42,7 @@ guide = vtk_to_numpy(cd.GetArray("GuideId"))
 check(guide.min() >= 0 and guide.max() < 40 and len(np.unique(guide)) > 30,
       f"every rendered strand follows one of the 40 guides ({len(np.unique(guide))} used)")
 check(out.GetFieldData().GetArray("PointsPushedOut") is not None, "the points pushed out are reported")
+check(out.GetFieldData().GetArray("PointsLookedUp") is not None, "the points looked up are reported")
 
 for model in ("Super-Helix", "Projective"):
     state = os.path.join(tmp, f"{model}.h5")
