@@ -492,13 +492,40 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
                 --hi;
               axis[i] = (prefix[hi + 1] - prefix[lo]) / double(hi - lo + 1);
             }
+            // Within half a turn of the root and of the tip the window is cut short and the
+            // axis follows the curl: there the frame is carried along the axis direction of
+            // the nearest point with a whole turn about it, turned smoothly from the root's
+            // tangent at the root (following the cut axis wound the offsets around the curl
+            // and made the rendered ends half as curly again as their guides).
+            const auto axisDirection = [&](std::size_t i)
+            {
+              Eigen::Vector3d t = axis[std::min(i + 1, m - 1)] - axis[i > 0 ? i - 1 : 0];
+              return t.norm() > 0 ? Eigen::Vector3d(t.normalized()) : tangent[i];
+            };
+            std::size_t whole0 = m, whole1 = 0;
+            for (std::size_t i = 0; i < m; ++i)
+            {
+              if (chord[i] >= 0.5 * period && chord[m - 1] - chord[i] >= 0.5 * period)
+              {
+                whole0 = std::min(whole0, i);
+                whole1 = i;
+              }
+            }
             Eigen::Matrix3d carry = orthonormalFrame(tangent[0], director[0]);
             Eigen::Vector3d previous = tangent[0];
             director[0] = carry.col(1);
             for (std::size_t i = 1; i < m; ++i)
             {
-              Eigen::Vector3d t = axis[std::min(i + 1, m - 1)] - axis[i - 1];
-              t = t.norm() > 0 ? t.normalized() : tangent[i];
+              Eigen::Vector3d t;
+              if (whole0 > whole1)
+                t = axisDirection(i); // shorter than a turn: the cut axis throughout
+              else if (i < whole0)
+              {
+                const double w = chord[i] / chord[whole0];
+                t = ((1 - w) * tangent[0] + w * axisDirection(whole0)).normalized();
+              }
+              else
+                t = axisDirection(std::min(i, whole1));
               carry = Eigen::Quaterniond::FromTwoVectors(previous, t).toRotationMatrix() * carry;
               previous = t;
               tangent[i] = carry.col(0);

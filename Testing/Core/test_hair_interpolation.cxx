@@ -5,6 +5,7 @@
 #include "DemoScene.h"
 #include "collision/CollisionTable.h"
 #include "render/HairInterpolation.h"
+#include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 using namespace hair;
@@ -442,4 +444,69 @@ TEST(HairInterpolation, RenderedHairFollowsTheDemoGuidesWithoutJumps)
   // tables' own error of the bundled body (head 4.7 mm, trunk 8.5 mm, docs/collision-tables.md).
   EXPECT_LE(insideMax, 1e-3);
   EXPECT_LE(deepestAfter, 0.0085);
+}
+
+TEST(HairInterpolation, CurlyHairKeepsItsCurlThroughTheShake)
+{
+  // The demo's curly run (curly Super-Helix guides combed on the bundled body, head shaking
+  // ±0.5 rad at 1 Hz, wind, head and trunk tables), the guides drawn as Hair Simulation
+  // draws them (16 points per element, material frames): at rest and through the shake,
+  // the rendered strands' mean curvature stays within 10 % of their guides' (the issue's
+  // criterion). The frame that carries the offsets once followed the curl within half a turn
+  // of the root and the tip, where its averaging window was cut short: the ends were half as
+  // curly again as their guides, the whole strand 8 % at rest and 13 % at 2.25 s.
+  BundledBody body;
+  ASSERT_TRUE(loadBundledBody(HAIR_DATA_DIR, body).ok());
+  std::vector<GuideStrand> guides;
+  ASSERT_TRUE(demoGuides(body, 60, 10, guides).ok());
+  for (GuideStrand& g : guides)
+    g.hair = HairParameters::preset(HairType::Curly);
+  const Scene scene = demoScene(body);
+  Simulation sim;
+  SimulationOptions options;
+  options.threads = 2;
+  ASSERT_TRUE(sim.initialize(guides, scene, options).ok());
+  ASSERT_TRUE(sim.advanceTo(68).ok());
+
+  InterpolationOptions o;
+  o.strands = 1000;
+  o.pointsPerStrand = 161;
+  o.variation = 0;
+  o.threads = 2;
+  HairInterpolation hi;
+  ASSERT_TRUE(hi.bind(guides, body.mesh, o).ok());
+  double worst = 0;
+  for (const int f : {0, 15, 30, 38, 45, 53, 60, 67})
+  {
+    GuideDrawing drawn;
+    ASSERT_TRUE(drawGuides(sim.header(), sim.frame(f), 16, 2, drawn).ok());
+    GuideCurves c;
+    c.points = drawn.frame.positions;
+    for (std::int64_t off : drawn.header.offsets)
+      c.offsets.push_back(std::size_t(off));
+    c.tangents = drawn.tangents;
+    c.directors = drawn.directors;
+    double guide = 0;
+    std::vector<float> xyz;
+    for (std::size_t g = 0; g + 1 < c.offsets.size(); ++g)
+    {
+      xyz.clear();
+      for (std::size_t i = c.offsets[g]; i < c.offsets[g + 1]; ++i)
+        for (int a = 0; a < 3; ++a)
+          xyz.push_back(float(c.points[i][a]));
+      guide += meanCurvature(xyz.data(), int(c.offsets[g + 1] - c.offsets[g]));
+    }
+    guide /= double(c.offsets.size() - 1);
+    RenderedHair out;
+    ASSERT_TRUE(hi.evaluate(c, {}, out).ok());
+    double rendered = 0;
+    for (std::size_t r = 0; r < hi.strandCount(); ++r)
+      rendered += meanCurvature(&out.points[r * 161 * 3], 161);
+    rendered /= double(hi.strandCount());
+    std::printf("t = %.2f s: guides %.1f 1/m, rendered %.1f 1/m, ratio %.3f\n", sim.frame(f).time,
+                guide, rendered, rendered / guide);
+    worst = std::max(worst, std::abs(rendered / guide - 1));
+  }
+  RecordProperty("worst_curvature_ratio_error", std::to_string(worst));
+  EXPECT_LT(worst, 0.10);
 }
