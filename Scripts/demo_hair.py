@@ -5,9 +5,11 @@ Run through Scripts/demo.sh (after Scripts/demo_simulation.py), or:
 Reads Output/super-helix.h5 and Output/projective.h5 (the demo's wavy guides), simulates
 200 curly Super-Helix guides under the same shake (Output/super-helix-curly.h5), and renders
 50 000 strands from each with Hair Interpolation. Writes, in Output/:
-  full_head.png     the three heads at the same instant of the shake, and at rest
+  full_head.png     the three heads at two instants of the shake, one period apart, lit
+                    lines with ambient occlusion, the head shown turned as the shake has it
 and prints, per run, the time per frame and the points pushed out of the body.
 """
+import math
 import os
 import sys
 import time
@@ -16,15 +18,51 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from paraview.simple import (ColorBy, GetColorTransferFunction, Hide, LoadPlugin,  # noqa: E402
-                             SaveScreenshot, Show)
+from paraview.simple import (Calculator, ColorBy, GetColorTransferFunction, Hide, LoadPlugin,  # noqa: E402
+                             ProgrammableFilter, SaveScreenshot, Show)
 
 import bundled  # noqa: E402
 
 plugin, out = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin, remote=False, ns=globals())
 STRANDS = 50000
-EARLY, SHOWN = 1.25, 2.25  # s: the head at the end of a swing, and swinging back through the middle
+EARLY, SHOWN = 1.25, 2.25  # s: the head at the same end of its swing, one period apart
+AMPLITUDE, FREQUENCY = 0.5, 1.0  # rad, Hz: the shake of all three runs, about the vertical
+PIVOT = [0.0, 1.45, 0.02]        # through Hair Simulation's default Motion Pivot (the neck)
+# Behind the left shoulder (+x), a little above the head: at both times shown the shake has
+# turned the face this way, so the face is seen in profile and the hair from the side and back.
+CAMERA, FOCUS = [0.95, 1.68, -0.45], [0.0, 1.45, 0.0]
+# Lit lines: a line has no normal of its own, and VTK draws lines without normals unlit (flat
+# colour). Each point gets the normal of a hair seen from the camera: the direction to the eye
+# made perpendicular to the strand's tangent (the normal of a thin cylinder where the eye sees
+# it), which gives the strands diffuse shading and highlights. And a shade for the colour map:
+# the arc parameter (0 at the root, 1 at the tip) times a per-strand factor in [0.8, 1.2]
+# (seeded by StrandId), so that neighbouring strands differ a little in lightness.
+LIT_HAIR = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+hair = self.GetPolyDataInput()
+out = self.GetPolyDataOutput()
+out.ShallowCopy(hair)
+points = vtk_to_numpy(hair.GetPoints().GetData()).astype(float)
+tangent = vtk_to_numpy(hair.GetPointData().GetArray("Tangent")).astype(float)
+eye = np.array({camera}) - points
+normal = eye - np.sum(eye * tangent, axis=1)[:, None] * tangent
+normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-12)[:, None]
+normals = numpy_to_vtk(normal.astype(np.float32), deep=1)
+normals.SetName("Normals")
+out.GetPointData().SetNormals(normals)
+lines = hair.GetLines()
+counts = np.diff(vtk_to_numpy(lines.GetOffsetsArray()))
+strand = vtk_to_numpy(hair.GetCellData().GetArray("StrandId"))[hair.GetNumberOfVerts():][:len(counts)]
+factor = 0.8 + 0.4 * np.random.default_rng(1).random(int(strand.max(initial=0)) + 1)
+per_point = np.ones(len(points))
+per_point[vtk_to_numpy(lines.GetConnectivityArray())] = np.repeat(factor[strand], counts)
+arc = vtk_to_numpy(hair.GetPointData().GetArray("ArcParameter"))
+shade = numpy_to_vtk(np.clip(arc * per_point, 0, 1).astype(np.float32), deep=1)
+shade.SetName("HairShade")
+out.GetPointData().AddArray(shade)
+""".format(camera=CAMERA)
 
 body = bundled.body()
 parts = bundled.tables(body, CylindricalCollisionMap)  # noqa: F821
@@ -36,7 +74,7 @@ curly = HairStrands(registrationName="Curly guides", Input=body, NumberOfStrands
                     CombWeight=0.35)
 curly_sim = HairSimulation(registrationName="Curly simulation", Input=curly,  # noqa: F821
                            Colliders=[head, trunk], Duration=SHOWN, FrameRate=30,
-                           BodyMotion="Shake", MotionAmplitude=0.5, MotionFrequency=1.0,
+                           BodyMotion="Shake", MotionAmplitude=AMPLITUDE, MotionFrequency=FREQUENCY,
                            Wind=[0, 0, -0.5], StateFileName=curly_state,
                            OverwriteStateFile=1)
 curly_sim.UpdatePipeline(SHOWN)
@@ -44,12 +82,40 @@ curly_sim.UpdatePipeline(SHOWN)
 runs = [("Super-Helix, wavy", os.path.join(out, "super-helix.h5")),
         ("Projective, wavy", os.path.join(out, "projective.h5")),
         ("Super-Helix, curly", curly_state)]
-view = bundled.white_view([0.75, 1.75, -0.75], [0.0, 1.45, 0.0], size=[600, 700])
-skin = Show(body, view)
+view = bundled.white_view(CAMERA, FOCUS, size=[600, 700])
+view.UseFXAA = 1
+# Screen-space ambient occlusion, its radius and bias in metres: at 1 cm it darkens the hair
+# between locks and curls and under the outer layers, which gives the hair its depth.
+# ParaView's default presets scale the radius with the scene (the whole body): a grain on the
+# skin and the hair darkened all over.
+view.UseAmbientOcclusion = 1
+view.UseSSAODefaultPresets = 0
+view.Radius = 0.01
+view.Bias = 0.001
+view.KernelSize = 32
+view.Blur = 1
+
+
+def head_turn(t):
+    """A Calculator function that turns the body's head as the shake has it at time t: the
+    hair was simulated on a turning head, the mesh is at rest. A rotation about the vertical
+    axis through the pivot, faded in over the neck (y 1.40 to 1.45 m) so that the shoulders
+    stay where they are."""
+    fade = "clamp(0, (coordsY - 1.40) / 0.05, 1)"
+    angle = f"({AMPLITUDE * math.sin(2 * math.pi * FREQUENCY * t)} * {fade}^2 * (3 - 2 * {fade}))"
+    x, z = f"(coordsX - {PIVOT[0]})", f"(coordsZ - {PIVOT[2]})"
+    return (f"({PIVOT[0]} + {x} * cos({angle}) + {z} * sin({angle})) * iHat + coordsY * jHat"
+            f" + ({PIVOT[2]} - {x} * sin({angle}) + {z} * cos({angle})) * kHat")
+
+
+posed = Calculator(registrationName="body, head turned", Input=body, CoordinateResults=1,
+                   Function=head_turn(EARLY))
+skin = Show(posed, view)
+skin.ColorArrayName = ["POINTS", ""]
 skin.DiffuseColor = [0.87, 0.76, 0.68]
-lut = GetColorTransferFunction("ArcParameter")
-# Dark brown at the roots to a lighter brown at the tips.
-lut.RGBPoints = [0.0, 0.16, 0.09, 0.05, 1.0, 0.55, 0.36, 0.2]
+lut = GetColorTransferFunction("HairShade")
+# Dark brown at the roots through brown to a light, warm brown at the tips.
+lut.RGBPoints = [0.0, 0.16, 0.10, 0.06, 0.45, 0.42, 0.27, 0.14, 1.0, 0.72, 0.54, 0.34]
 lut.AutomaticRescaleRangeMode = "Never"
 lut.RescaleTransferFunction(0.0, 1.0)
 pictures = []
@@ -68,18 +134,25 @@ for name, state in runs:
         left = int(field.GetArray("PointsInsideAfterPushOut").GetValue(0))
         print(f"{name + f' t={when:g}':<22}{data.GetNumberOfLines():>9}{data.GetNumberOfPoints():>11}"
               f"{seconds:>11.2f}{pushed:>12}{left:>13}")
-    display = Show(hair, view)
-    ColorBy(display, ("POINTS", "ArcParameter"))
+    lit = ProgrammableFilter(registrationName=f"{name} lit hair", Input=hair, Script=LIT_HAIR)
+    display = Show(lit, view)
+    ColorBy(display, ("POINTS", "HairShade"))
     display.SetScalarBarVisibility(view, False)
-    display.Ambient = 0.25
-    display.Diffuse = 0.8
+    display.Interpolation = "Gouraud"
+    display.LineWidth = 1.0
+    display.Ambient = 0.15
+    display.Diffuse = 0.85
+    display.Specular = 0.5
+    display.SpecularPower = 20.0
+    display.SpecularColor = [1.0, 0.9, 0.75]
     for when in (EARLY, SHOWN):
         view.ViewTime = when
+        posed.Function = head_turn(when)
         path = os.path.join(out, "frames", f"full_head_{name.split(',')[0].lower()}_"
                             f"{name.split()[-1]}_{when:g}.png")
         SaveScreenshot(path, view, ImageResolution=[600, 700])
         pictures.append((name, when, path))
-    Hide(hair, view)
+    Hide(lit, view)
 
 fig, axes = plt.subplots(2, len(runs), figsize=(4.2 * len(runs), 9.6))
 for k, (name, when, path) in enumerate(pictures):

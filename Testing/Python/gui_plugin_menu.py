@@ -37,8 +37,8 @@ found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filt
          ("filters", "HairInterpolation"))
          if pxm.GetPrototypeProxy(group, name) is not None]
 open({marker!r}, "w").write(" ".join(found))
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, HairInterpolation,
-                             HairSimulation, HairStrands, LegacyVTKReader, Render, Show)
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, GetColorTransferFunction,
+                             HairInterpolation, HairSimulation, HairStrands, LegacyVTKReader, Render, Show)
 body = LegacyVTKReader(registrationName="body", FileNames=[{os.path.abspath(body_file)!r}])
 guides = HairStrands(registrationName="guides", Input=body, NumberOfStrands=200, StrandLength=0.3,
                      HairType="Wavy (Caucasian 1)", Growth="Combed", CombDirection=[0, -1, -0.3],
@@ -51,11 +51,32 @@ skin = Show(body, view)
 skin.DiffuseColor = [0.87, 0.76, 0.68]
 shown = Show(hair, view)
 ColorBy(shown, ("POINTS", "ArcParameter"))
+# The look of Scripts/demo_hair.py by display properties only: lit tubes (lines, which have
+# no normals, are drawn unlit), a highlight, the demo's colours from dark roots to light tips,
+# and ambient occlusion over 1 cm. Tubes coloured through a texture (scalars interpolated
+# before mapping) are drawn behind the body in ParaView 5.11: colours are interpolated after.
+shown.RenderLinesAsTubes = 1
+shown.LineWidth = 2.0
+shown.InterpolateScalarsBeforeMapping = 0
+shown.Ambient = 0.15
+shown.Diffuse = 0.85
+shown.Specular = 0.5
+shown.SpecularPower = 20.0
+shown.SpecularColor = [1.0, 0.9, 0.75]
+lut = GetColorTransferFunction("ArcParameter")
+lut.RGBPoints = [0.0, 0.16, 0.10, 0.06, 0.45, 0.42, 0.27, 0.14, 1.0, 0.72, 0.54, 0.34]
+view.UseFXAA = 1
+view.UseAmbientOcclusion = 1
+view.UseSSAODefaultPresets = 0
+view.Radius = 0.01
+view.Bias = 0.001
+view.KernelSize = 32
+view.Blur = 1
 scene = GetAnimationScene()
 scene.UpdateAnimationUsingDataTimeSteps()
 scene.AnimationTime = 1.0
 Render(view)
-view.CameraPosition = [0.75, 1.75, -0.75]
+view.CameraPosition = [0.95, 1.68, -0.45]
 view.CameraFocalPoint = [0.0, 1.45, 0.0]
 view.CameraViewUp = [0, 1, 0]
 Render(view)
