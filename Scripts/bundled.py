@@ -63,7 +63,8 @@ def white_view(position, focal_point, size=None):
 
 def hair_view(mesh, sim):
     """The demo's view of a run: the body in skin colour, the guides coloured by speed on a
-    fixed 0–1 m/s scale with its bar, seen from behind the right shoulder (500 x 600)."""
+    fixed 0–1 m/s scale with its bar, seen from behind the left shoulder (500 x 600; the body
+    faces +z, so its left is +x)."""
     view = white_view([0.75, 1.75, -0.75], [0.0, 1.45, 0.0], size=[500, 600])
     skin = Show(mesh, view)
     skin.DiffuseColor = [0.87, 0.76, 0.68]
