@@ -105,8 +105,9 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << " tolerance " << this->Tolerance << " m/s\n"
      << indent << "Contacts: " << (this->Contacts ? "on" : "off") << " stiffness "
      << this->ContactStiffness << " damping " << this->ContactDamping << " friction "
-     << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " thickness "
-     << this->ContactThickness << " slip velocity " << this->SlipVelocity << "\n"
+     << this->FrictionCoefficient << " anisotropy " << this->FrictionAnisotropy << " static "
+     << this->StaticFrictionCoefficient << " thickness " << this->ContactThickness
+     << " slip velocity " << this->SlipVelocity << "\n"
      << indent << "Hair-hair contacts: " << this->HairHairContacts << " (0 off, 1 coupled, 2 grid, "
      << "3 grid and near field) volume fraction " << this->HairVolumeFraction << " pressure "
      << this->HairVolume << " volume, grid friction " << this->HairGridFriction << " /s cell "
@@ -408,6 +409,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   sh.contacts.dampingRatio = this->ContactDamping;
   sh.contacts.friction = this->FrictionCoefficient;
   sh.contacts.anisotropy = this->FrictionAnisotropy;
+  sh.contacts.staticFriction = this->StaticFrictionCoefficient;
   sh.contacts.thickness = this->ContactThickness;
   sh.contacts.slipVelocity = this->SlipVelocity;
   sh.hairHairEnabled = this->HairHairContacts != HAIR_HAIR_OFF;

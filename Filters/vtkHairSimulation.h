@@ -110,6 +110,8 @@ public:
   vtkGetMacro(FrictionCoefficient, double);
   vtkSetMacro(FrictionAnisotropy, double);
   vtkGetMacro(FrictionAnisotropy, double);
+  vtkSetMacro(StaticFrictionCoefficient, double);
+  vtkGetMacro(StaticFrictionCoefficient, double);
   vtkSetMacro(ContactThickness, double);
   vtkGetMacro(ContactThickness, double);
   /// Super-Helix: how the guides interact with each other (hair::HairHairSolver; its values,
@@ -197,11 +199,12 @@ protected:
   int Integrator = SEMI_IMPLICIT;
   double Tolerance = 0; ///< m/s, 0: fixed steps
   bool Contacts = true;
-  double ContactStiffness = 10;     ///< N/m²
-  double ContactDamping = 1;        ///< fraction of critical
-  double FrictionCoefficient = 0.3; ///< μ
-  double FrictionAnisotropy = 0.2;  ///< a: μ (1 ± a) against / with the scales
-  double ContactThickness = 1e-3;   ///< m
+  double ContactStiffness = 10;         ///< N/m²
+  double ContactDamping = 1;            ///< fraction of critical
+  double FrictionCoefficient = 0.3;     ///< μ
+  double FrictionAnisotropy = 0.2;      ///< a: μ (1 ± a) against / with the scales
+  double StaticFrictionCoefficient = 0; ///< μ_s; 0: no sticking
+  double ContactThickness = 1e-3;       ///< m
   int HairHairContacts = HAIR_HAIR_GRID;
   double HairVolumeFraction = 0.05;     ///< φ0 (hair::HairGridParameters)
   double HairVolume = 1;                ///< share of the packing above φ0 undone per step

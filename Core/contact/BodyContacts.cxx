@@ -32,6 +32,13 @@ Status BodyContactParameters::validate() const
                "give a finite value >= 0 (0: frictionless; hair on skin or hair is a few "
                "tenths, default 0.3)");
   }
+  if (!std::isfinite(staticFriction) || staticFriction < 0 ||
+      (staticFriction > 0 && staticFriction < friction))
+  {
+    return bad("static friction coefficient", staticFriction,
+               "give 0 (no sticking) or a finite value at least the kinetic coefficient (a "
+               "contact that holds needs at least the force that keeps it sliding)");
+  }
   if (!std::isfinite(anisotropy) || anisotropy < 0 || anisotropy >= 1)
   {
     return bad("friction anisotropy", anisotropy,
@@ -69,7 +76,7 @@ Status BodyContacts::setParameters(const BodyContactParameters& parameters)
 
 bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                               const Eigen::Vector3d& t, double linearDensity, const PosedPart& body,
-                              ContactResponse& out, double& depth) const
+                              ContactResponse& out, double& depth, BodyAnchor* anchor) const
 {
   const BodyContactParameters& p = Parameters;
   depth = 0;
@@ -132,27 +139,78 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   // Its linearization is the secant η P (η = μ_eff λ / s, P = I − n nᵀ): with it, the force
   // over the step is −η u_tⁿ⁺¹, which opposes the new sliding velocity and cannot reverse
   // it (the tangent would overshoot stick by up to h μ g per step at dt = 1/30 s).
+  const Eigen::Vector3d ut = u - un * n;
+  const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - nn;
+  // Static friction: stick to the anchor by a spring–damper in the tangent plane (implicit,
+  // as the normal penalty: its stiffness k and damping c).
+  if (anchor && p.staticFriction > 0)
+  {
+    if (!anchor->set)
+    {
+      anchor->set = true;
+      anchor->rest = body.toRest(x);
+    }
+    // The sample sticks while the spring's stretch alone stays within the cone (the damper's
+    // share would let a suddenly loaded contact break away on its transient); the force,
+    // damper included, is kept within μ_s λ.
+    Eigen::Vector3d stretch = tangential * (x - body.pose * anchor->rest);
+    const double limit = p.staticFriction * lambda;
+    const double sn = stretch.norm();
+    if (k * sn > limit && ut.norm() < p.slipVelocity)
+    {
+      // Stretched past the cone while hardly moving (a transient of the load, the rod's own
+      // vibration): the anchor is drawn after the sample to the cone's edge and the contact
+      // still holds, with μ_s λ; only a sample moving faster than the slip velocity slides.
+      // Over the step it flows with the load (the spring's stiffness would hold it at its
+      // anchor and make it creep at (load − μ_s λ)/(k h) instead of sliding).
+      stretch *= limit / (k * sn);
+      anchor->rest = body.toRest(x - stretch);
+      out.force -= limit * stretch / stretch.norm();
+      return true;
+    }
+    if (k * sn <= limit)
+    {
+      const Eigen::Vector3d hold = -k * stretch - c * ut;
+      const double h = hold.norm();
+      const double scale = h > limit ? limit / h : 1.0;
+      out.force += scale * hold;
+      out.stiffness += scale * k * tangential;
+      out.damping += scale * c * tangential;
+      return true;
+    }
+    // Sliding: the anchor trails the sample by the stretch at which the spring would pull
+    // with the kinetic force, so that a slowing sample is caught without a jump.
+    const Eigen::Vector3d away =
+        sn > 0 ? Eigen::Vector3d(stretch / sn)
+               : Eigen::Vector3d(ut.norm() > 0 ? ut.normalized() : Eigen::Vector3d::Zero());
+    anchor->rest = body.toRest(x - (p.friction * lambda / k) * away);
+  }
   if (p.friction > 0)
   {
-    const Eigen::Vector3d ut = u - un * n;
     const double s = std::sqrt(ut.squaredNorm() + p.slipVelocity * p.slipVelocity);
     const double g = 1 + p.anisotropy * t.dot(ut) / s;
     const double eta = p.friction * g * lambda / s;
     out.force -= eta * ut;
-    out.damping += eta * (Eigen::Matrix3d::Identity() - nn);
+    out.damping += eta * tangential;
   }
   return true;
 }
 
 void BodyContacts::respond(const std::vector<StrandSample>& samples, double linearDensity,
                            const PosedPart* bodies, int bodyCount,
-                           std::vector<ContactResponse>& response, ContactSummary* summary) const
+                           std::vector<ContactResponse>& response, ContactSummary* summary,
+                           std::vector<BodyAnchor>* anchors) const
 {
   if (!Parameters.enabled || bodyCount <= 0)
   {
     return;
   }
   const std::size_t n = std::min(samples.size(), response.size());
+  const bool sticking = anchors && Parameters.staticFriction > 0;
+  if (sticking && anchors->size() != samples.size() * std::size_t(bodyCount))
+  {
+    anchors->assign(samples.size() * std::size_t(bodyCount), BodyAnchor());
+  }
   for (std::size_t i = 0; i < n; ++i)
   {
     // Fibre tangent (root → tip) from the neighbouring samples: central where there are two.
@@ -165,8 +223,14 @@ void BodyContacts::respond(const std::vector<StrandSample>& samples, double line
     {
       double depth = 0;
       ContactResponse r;
-      if (respondOne(samples[i].position, samples[i].velocity, t, linearDensity, bodies[k], r,
-                     depth))
+      BodyAnchor* anchor = sticking ? &(*anchors)[i * std::size_t(bodyCount) + k] : nullptr;
+      const bool touches = respondOne(samples[i].position, samples[i].velocity, t, linearDensity,
+                                      bodies[k], r, depth, anchor);
+      if (anchor && !touches)
+      {
+        anchor->set = false; // left the part: a new touch anchors anew
+      }
+      if (touches)
       {
         touching = true;
         response[i].force += r.force;

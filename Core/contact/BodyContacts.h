@@ -29,6 +29,15 @@ struct BodyContactParameters
   double dampingRatio = 1.0;
   /// μ: Coulomb friction coefficient (averaged over the sliding directions).
   double friction = 0.3;
+  /// μ_s: static friction coefficient; 0 (the default): none, the regularized Coulomb law
+  /// alone, under which a strand held by friction creeps at ~ε. > 0 (at least μ): a sample
+  /// that touches a part is anchored where it touched (in the part's own coordinates, so the
+  /// anchor moves with it); while the tangential force that holds it there (a spring of the
+  /// contact's stiffness and a damper of its damping, to the anchor) stays within μ_s λ it
+  /// sticks, beyond that it slides under the kinetic law (μ, anisotropic) and its anchor
+  /// trails it by the kinetic force's stretch. Needs the anchors' state: respond()'s
+  /// `anchors`, kept by the model per strand and sample.
+  double staticFriction = 0;
   /// a ∈ [0, 1): anisotropy of the friction (cuticle scales). μ_eff = μ (1 + a cos ψ),
   /// ψ the angle between the fibre's tangent (root → tip) and its sliding velocity relative
   /// to the body: tip-first sliding (the body rubbing the fibre tip → root, against the
@@ -47,6 +56,14 @@ struct BodyContactParameters
 
   /// Names the first parameter out of range, what is wrong and what to do.
   Status validate() const;
+};
+
+/// Where a sample stuck to a part (static friction): its anchor in the part's rest
+/// coordinates, or none.
+struct BodyAnchor
+{
+  bool set = false;
+  Eigen::Vector3d rest = Eigen::Vector3d::Zero();
 };
 
 /// What one call found (for statistics; optional).
@@ -72,17 +89,22 @@ public:
   /// tangent for the anisotropy is taken from the neighbouring samples. `linearDensity`
   /// is the strand's ρS [kg/m] (for the critical damping). `response` must have one entry
   /// per sample.
+  /// With static friction on, `anchors` holds the strand's anchors, samples × bodyCount
+  /// (sample i, body k at i · bodyCount + k; resized, and reset, when its size differs), read
+  /// and updated here: a sample's anchor is set when it touches and cleared when it leaves.
+  /// Null: kinetic friction alone.
   void respond(const std::vector<StrandSample>& samples, double linearDensity,
                const PosedPart* bodies, int bodyCount, std::vector<ContactResponse>& response,
-               ContactSummary* summary = nullptr) const;
+               ContactSummary* summary = nullptr, std::vector<BodyAnchor>* anchors = nullptr) const;
 
   /// The response of one sample (exposed for tests): position x, velocity v, fibre tangent
   /// t (unit, root → tip) against one body. Returns false (and leaves `out` alone) when the
   /// sample is farther than `thickness` from the surface or the table does not cover it.
   /// `depth` receives the table's penetration (Q − P)·N (> 0 inside).
+  /// `anchor`: the sample's anchor on this body (static friction), or null.
   bool respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v, const Eigen::Vector3d& t,
-                  double linearDensity, const PosedPart& body, ContactResponse& out,
-                  double& depth) const;
+                  double linearDensity, const PosedPart& body, ContactResponse& out, double& depth,
+                  BodyAnchor* anchor = nullptr) const;
 
 private:
   BodyContactParameters Parameters;

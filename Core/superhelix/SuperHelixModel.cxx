@@ -200,6 +200,7 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     };
   }
   Helices.assign(guides.size(), SuperHelix());
+  Anchors.assign(guides.size(), {});
   Built = guides;
   Reports.assign(guides.size(), GroomReport());
   std::vector<Status> failed(guides.size());
@@ -346,7 +347,7 @@ void SuperHelixModel::respond(std::size_t strand, int id, double t,
     thread_local std::vector<PosedPart> parts; // no allocation after the first call
     World.posedParts(t, parts);
     Body.respond(samples, Helices[strand].spec().hair.linearDensity(), parts.data(),
-                 static_cast<int>(parts.size()), response);
+                 static_cast<int>(parts.size()), response, nullptr, &Anchors[strand]);
   }
   if (usesGrid())
   {
@@ -568,6 +569,7 @@ void SuperHelixModel::describe(StateHeader& header) const
   at["contact_damping_ratio"] = c.dampingRatio;
   at["friction_coefficient"] = c.friction;
   at["friction_anisotropy"] = c.anisotropy;
+  at["static_friction_coefficient"] = c.staticFriction;
   at["contact_thickness"] = c.thickness;
   at["slip_velocity"] = c.slipVelocity;
   at["hair_hair_contacts"] = Options.hairHairEnabled ? static_cast<int>(Options.hairHairSolver) : 0;

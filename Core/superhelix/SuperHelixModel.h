@@ -131,6 +131,9 @@ private:
   std::vector<GuideStrand> Built;   ///< the guides as built (groomed: the fit's length, tangent)
   std::vector<GroomReport> Reports; ///< per strand: the fit and the rest shape
   BodyContacts Body;
+  /// Static friction's anchors, per strand (samples × parts): updated by respond(), which a
+  /// strand's own step calls (one thread per strand at a time).
+  mutable std::vector<std::vector<BodyAnchor>> Anchors;
   HairHairContacts HairHair;
   HairGrid Grid;
   NearFieldContacts Near;

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 using namespace hair;
 using namespace hairtest;
@@ -42,10 +43,15 @@ struct SphereSample
 void attach(SuperHelix& h, const BodyContacts& contacts, const std::vector<PosedPart>& bodies)
 {
   const double rhoS = h.spec().hair.linearDensity();
+  // The strand's static-friction anchors live with the hook, as a model keeps them.
+  auto anchors = std::make_shared<std::vector<BodyAnchor>>();
   h.setContactForces(
-      [&contacts, bodies, rhoS](int, double, const std::vector<StrandSample>& s,
-                                std::vector<ContactResponse>& r)
-      { contacts.respond(s, rhoS, bodies.data(), static_cast<int>(bodies.size()), r); });
+      [&contacts, bodies, rhoS, anchors](int, double, const std::vector<StrandSample>& s,
+                                         std::vector<ContactResponse>& r)
+      {
+        contacts.respond(s, rhoS, bodies.data(), static_cast<int>(bodies.size()), r, nullptr,
+                         anchors.get());
+      });
 }
 
 double maxSpeed(const SuperHelix& h)
@@ -554,7 +560,9 @@ namespace
 /// large vertical cylinder (R = 1 m, its side the slope), gravity tilted so that it presses
 /// the strand on the side with cos α and pulls it sideways (−z, across the strand) with
 /// sin α. Returns the tip's sideways displacement after `seconds`.
-double slide(double mu, double tanAlpha, double seconds)
+/// `atRest`: the strand starts at the depth where the layer carries its weight (no landing).
+double slide(double mu, double tanAlpha, double seconds, double muStatic = 0, double dt = Dt / 4,
+             bool atRest = false)
 {
   const double R = 1.0, alpha = std::atan(tanAlpha);
   const CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
@@ -567,6 +575,7 @@ double slide(double mu, double tanAlpha, double seconds)
   EXPECT_TRUE(part.build(spec, body).ok());
   BodyContactParameters prm;
   prm.friction = mu;
+  prm.staticFriction = muStatic;
   prm.anisotropy = 0; // sideways sliding: cos ψ = 0 anyway; isolate μ
   BodyContacts contacts;
   EXPECT_TRUE(contacts.setParameters(prm).ok());
@@ -574,8 +583,11 @@ double slide(double mu, double tanAlpha, double seconds)
   hp.youngModulus = 1e8;
   StrandSpec s = StrandSpec::uniform(0.3, 10, hp);
   s.gravity = -9.81 * Eigen::Vector3d(std::cos(alpha), 0, std::sin(alpha));
-  // Root in the clump's layer (0.9 mm out of the 1 mm), tangent +y along the generator.
-  const Eigen::Vector3d root(R + 0.9e-3, -0.15, 0);
+  // Root in the clump's layer (0.9 mm out of the 1 mm, or where k d = ρS g cos α), tangent
+  // +y along the generator.
+  const double out =
+      atRest ? prm.thickness - hp.linearDensity() * 9.81 * std::cos(alpha) / prm.stiffness : 0.9e-3;
+  const Eigen::Vector3d root(R + out, -0.15, 0);
   s.root = [root](double)
   {
     RootState r;
@@ -592,7 +604,7 @@ double slide(double mu, double tanAlpha, double seconds)
   // dt = 1/120 s: at 1/30 s the first-order step blurs the threshold (measured at r = 0.9:
   // a held strand creeps 27 mm in 3 s, a sliding one moves 0.12 m instead of 0.27 m; at
   // 1/60, 1/120, 1/240 s the creep is 10.6, 7.3, 7.0 mm), see docs/superhelix-contacts.md.
-  const double dtS = Dt / 4;
+  const double dtS = dt;
   for (int i = 0; i < std::lround(seconds / dtS); ++i)
   {
     const Status st = h.step(dtS);
@@ -625,6 +637,43 @@ TEST(SuperHelixBodyContacts, FrictionHoldsAStrandOnASlopeBelowTheAngleOfRepose)
     EXPECT_LT(std::abs(held), 2 * creep) << r;
     EXPECT_GT(slid, 10 * creep) << r;
   }
+}
+
+TEST(SuperHelixBodyContacts, StaticFrictionHoldsAStrandOnASlopeWithoutCreep)
+{
+  // Coulomb with static friction: a strand at rest on a slope below the angle of repose
+  // (tan α < μ_s) stays — no creep, the bound 0.1 mm in 10 s — where the regularized
+  // law alone lets it creep at ~ε (the test above: 4–6 mm in 3 s), even when the kinetic
+  // coefficient could not stop it once moving (μ = 0.8 tan α); above the angle
+  // (tan α > μ_s = μ) it slides. At the run's step, 1/30 s; the strand starts at its resting
+  // depth. The same slope as above, load ratio r = tan α / μ_s = 0.8 and 0.9.
+  const double tanAlpha = 0.3, T = 10.0;
+  for (double r : {0.8, 0.9})
+  {
+    const double muS = tanAlpha / r;
+    const double held = slide(0.8 * tanAlpha, tanAlpha, T, muS, Dt, true);
+    const double slid = slide(r * tanAlpha, tanAlpha, 3.0, r * tanAlpha, Dt, true);
+    std::printf("slope tan a = %.2f, mu_s = %.3f: tip moved %.3g mm in %.0f s; at mu_s = mu = "
+                "%.3f it slid %.3g m in 3 s\n",
+                tanAlpha, muS, 1e3 * held, T, r * tanAlpha, slid);
+    EXPECT_LT(std::abs(held), 1e-4) << r;
+    EXPECT_GT(slid, 0.02) << r;
+  }
+}
+
+TEST(SuperHelixBodyContacts, StaticFrictionBelowTheKineticIsRefused)
+{
+  BodyContactParameters p;
+  p.friction = 0.3;
+  p.staticFriction = 0.2;
+  BodyContacts c;
+  const Status s = c.setParameters(p);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("static friction"), std::string::npos) << s.message();
+  p.staticFriction = 0; // off
+  EXPECT_TRUE(c.setParameters(p).ok());
+  p.staticFriction = 0.4;
+  EXPECT_TRUE(c.setParameters(p).ok());
 }
 
 // ---- In the scene driver (Core/simulation/Simulation) ---------------------------------

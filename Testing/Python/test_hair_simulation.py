@@ -141,10 +141,16 @@ errors = Errors(bad_contact)
 bad_contact.UpdatePipeline(0.0)
 check(any("friction coefficient" in m for m in errors.messages),
       f"a negative friction coefficient is refused by name ({errors.messages[:1]})")
+bad_static = HairSimulation(Input=strands, Colliders=[head], Duration=0.1,  # noqa: F821
+                            FrictionCoefficient=0.3, StaticFrictionCoefficient=0.2)
+errors = Errors(bad_static)
+bad_static.UpdatePipeline(0.0)
+check(any("static friction coefficient" in m for m in errors.messages),
+      f"static friction below the kinetic is refused by name ({errors.messages[:1]})")
 for on in (1, 0):
     run = HairSimulation(Input=strands, Colliders=[head], Duration=1.0, Contacts=on,  # noqa: F821
                          ContactStiffness=10, FrictionCoefficient=0.3, FrictionAnisotropy=0.2,
-                         ContactThickness=0.001)
+                         StaticFrictionCoefficient=0.4 if on else 0, ContactThickness=0.001)
     run.UpdatePipeline(1.0)
     depth = fetch(run).GetPointData().GetArray("contact_depth").GetRange()[1]
     print(f"contacts {on}: deepest point inside the head table at 1 s: {depth * 1e3:.2f} mm")
