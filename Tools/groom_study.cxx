@@ -3,7 +3,7 @@
 //
 //   groom_study out=<csv> [strands=200] [presets=smooth,wavy,curly,fuzzy]
 //               [models=super-helix,projective] [elements=10] [hold=10] [release=10]
-//               [threads=2] [curves=<csv>]
+//               [threads=2] [curves=<csv>] [static=0]
 //
 // For each model and preset: `strands` guides grown as Hair Strands grows them by default on
 // the bundled body's scalp (30 cm along the normal, seed 1), shaken 0.5 s as Hair Simulation
@@ -16,9 +16,11 @@
 //   release  the sag-free groom shaken briefly (±0.2 rad at 1 Hz for one cycle from 0.2 s,
 //            faded over 0.25 s) and released, `release` s in all: the largest distance from
 //            the groom at the last frame and after the shake.
-// One row per strand; `curves` (optional) receives the groom and each run's last frame for the
-// pictures (Scripts/groom_pictures.py). Bad input: a message on stderr and exit status 2; a
-// failed computation: exit status 1.
+// `static`: the Super-Helix's static friction coefficient μ_s for the runs after the groom is
+// made (0: off, the default; the shake that makes the groom never has it, so that the groom
+// is the same). One row per strand; `curves` (optional) receives the groom and each run's last
+// frame for the pictures (Scripts/groom_pictures.py). Bad input: a message on stderr and exit
+// status 2; a failed computation: exit status 1.
 #include "ProjectiveScenes.h"
 #include "collision/PosedPart.h"
 #include "simulation/Simulation.h"
@@ -175,7 +177,7 @@ int main(int argc, char** argv)
 {
   Arguments args;
   const std::set<std::string> known = {"out",  "strands", "presets", "models", "elements",
-                                       "hold", "release", "threads", "curves"};
+                                       "hold", "release", "threads", "curves", "static"};
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -184,7 +186,7 @@ int main(int argc, char** argv)
     {
       return fail("argument '" + a +
                       "' is not one of out=, strands=, presets=, models=, "
-                      "elements=, hold=, release=, threads=, curves=.",
+                      "elements=, hold=, release=, threads=, curves=, static=.",
                   2);
     }
     args.values[a.substr(0, eq)] = a.substr(eq + 1);
@@ -194,7 +196,7 @@ int main(int argc, char** argv)
     return fail("give the output file: out=<csv>.", 2);
   }
   int strands = 0, elements = 0, threads = 0;
-  double hold = 0, release = 0;
+  double hold = 0, release = 0, staticFriction = 0;
   try
   {
     strands = static_cast<int>(args.number("strands", 200));
@@ -202,10 +204,17 @@ int main(int argc, char** argv)
     threads = static_cast<int>(args.number("threads", 2));
     hold = args.number("hold", 10);
     release = args.number("release", 10);
+    staticFriction = args.number("static", 0);
   }
   catch (const std::exception&)
   {
-    return fail("strands, elements, threads, hold and release are numbers.", 2);
+    return fail("strands, elements, threads, hold, release and static are numbers.", 2);
+  }
+  if (!(staticFriction == 0 || staticFriction >= BodyContactParameters().friction))
+  {
+    return fail("static is 0 (off) or at least the kinetic friction coefficient, " +
+                    std::to_string(BodyContactParameters().friction) + ".",
+                2);
   }
   if (strands < 1 || strands > 2000 || elements < 1 || elements > 40 || threads < 1 ||
       !(hold > 0 && hold <= 60) || !(release >= 2 && release <= 60))
@@ -314,6 +323,7 @@ int main(int argc, char** argv)
         return fail(modelName + ", " + presetName + ", shake: " + s.message(), 1);
       }
       const Curves groomCurves = shake.end;
+      o.superHelix.contacts.staticFriction = staticFriction;
       std::vector<Eigen::Vector3d> normals;
       for (const GuideStrand& g : grown)
       {

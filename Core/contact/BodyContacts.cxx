@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace hair
@@ -155,20 +156,32 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
     // damper included, is kept within μ_s λ.
     Eigen::Vector3d stretch = tangential * (x - body.pose * anchor->rest);
     const double limit = p.staticFriction * lambda;
-    const double sn = stretch.norm();
-    if (k * sn > limit && ut.norm() < p.slipVelocity)
+    double sn = stretch.norm();
+    // A sliding sample slides on (kinetic) until it slows below half the slip velocity.
+    const bool slides = anchor->sliding && ut.norm() >= 0.5 * p.slipVelocity;
+    anchor->sliding = slides;
+    if (slides)
+    {
+      sn = std::numeric_limits<double>::infinity();
+    }
+    else if (k * sn > limit && ut.norm() < p.slipVelocity && anchor->flows < BodyAnchor::MaxFlows)
     {
       // Stretched past the cone while hardly moving (a transient of the load, the rod's own
       // vibration): the anchor is drawn after the sample to the cone's edge and the contact
-      // still holds, with μ_s λ; only a sample moving faster than the slip velocity slides.
-      // Over the step it flows with the load (the spring's stiffness would hold it at its
-      // anchor and make it creep at (load − μ_s λ)/(k h) instead of sliding).
+      // holds from there. A load that has passed leaves the sample stuck at its new anchor;
+      // one that stays beyond μ_s λ draws it on step after step, and after MaxFlows steps
+      // the sample slides (held by the spring, it would creep at (load − μ_s λ)/(k h)
+      // instead; yielding at once, a 3 % transient at 90 % of the cone unzipped a strand).
       stretch *= limit / (k * sn);
+      sn = limit / k;
       anchor->rest = body.toRest(x - stretch);
-      out.force -= limit * stretch / stretch.norm();
-      return true;
+      ++anchor->flows;
     }
-    if (k * sn <= limit)
+    else if (k * sn <= limit)
+    {
+      anchor->flows = 0;
+    }
+    if (k * sn <= limit * (1 + 1e-9))
     {
       const Eigen::Vector3d hold = -k * stretch - c * ut;
       const double h = hold.norm();
@@ -178,11 +191,14 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
       out.damping += scale * c * tangential;
       return true;
     }
+    anchor->flows = 0;
+    anchor->sliding = true;
     // Sliding: the anchor trails the sample by the stretch at which the spring would pull
     // with the kinetic force, so that a slowing sample is caught without a jump.
+    const double stretched = stretch.norm();
     const Eigen::Vector3d away =
-        sn > 0 ? Eigen::Vector3d(stretch / sn)
-               : Eigen::Vector3d(ut.norm() > 0 ? ut.normalized() : Eigen::Vector3d::Zero());
+        stretched > 0 ? Eigen::Vector3d(stretch / stretched)
+                      : Eigen::Vector3d(ut.norm() > 0 ? ut.normalized() : Eigen::Vector3d::Zero());
     anchor->rest = body.toRest(x - (p.friction * lambda / k) * away);
   }
   if (p.friction > 0)

@@ -62,8 +62,13 @@ struct BodyContactParameters
 /// coordinates, or none.
 struct BodyAnchor
 {
+  /// Steps in a row a sample may be drawn past the cone's edge while slower than the slip
+  /// velocity before it slides (a transient of the load passes within them).
+  static constexpr int MaxFlows = 3;
   bool set = false;
   Eigen::Vector3d rest = Eigen::Vector3d::Zero();
+  int flows = 0;        ///< steps in a row its anchor was drawn after it
+  bool sliding = false; ///< sliding (kinetic) until it slows below half the slip velocity
 };
 
 /// What one call found (for statistics; optional).
