@@ -13,6 +13,9 @@ namespace
 constexpr double TwoPi = 6.283185307179586476925286766559;
 constexpr double Pi = 3.1415926535897932384626433832795;
 
+/// fastAtan2's largest error [rad] (below): a bound on a table's cells widens its angles by it.
+constexpr double AtanError = 1e-5;
+
 /// atan2 in [−π, π] to within 1e-5 rad: Abramowitz and Stegun 4.4.49 (|ε| ≤ 1e-5 for
 /// atan on [0, 1]), folded to the other octants. At the 0.1–0.3 m radii of body parts this
 /// moves a point's table coordinates by at most 3 µm, far below the table's own error, and
@@ -214,7 +217,8 @@ double CollisionTable::windowReach(const Eigen::Vector3d& p, double delta) const
     {
       return Unbounded;
     }
-    const double cone = std::asin(delta / rho), phi = std::atan2(rxy, local.z());
+    // The look-up finds a point's cells by fastAtan2: the window is widened by its error.
+    const double cone = std::asin(delta / rho) + AtanError, phi = std::atan2(rxy, local.z());
     const double cell = Pi / (ns - 1);
     j0 = int(std::floor((phi - cone) / cell));
     j1 = int(std::floor((phi + cone) / cell)) + 1;
@@ -226,7 +230,7 @@ double CollisionTable::windowReach(const Eigen::Vector3d& p, double delta) const
   int i0 = 0, i1 = na - 1;
   if (delta < rxy)
   {
-    const double turn = std::asin(delta / rxy), cell = TwoPi / na;
+    const double turn = std::asin(delta / rxy) + AtanError, cell = TwoPi / na;
     double th = std::atan2(local.y(), local.x());
     th = th < 0 ? th + TwoPi : th;
     i0 = int(std::floor((th - turn) / cell));

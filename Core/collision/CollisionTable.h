@@ -126,9 +126,10 @@ public:
   /// The largest outer radius of the samples whose cells a point within `delta` of p (frame
   /// coordinates) can fall in: the window of heights h ± δ (cylindrical) or polar angles
   /// φ ± asin(δ/ρ) (spherical) and azimuths θ ± asin(δ/r_xy), all azimuths when the ball
-  /// holds the axis. A point within δ of p that is farther than this from the axis (or
-  /// centre) is outside the part, without a look-up. +∞ for a spherical table's ball that
-  /// holds the centre. What lets the rendered hair skip the look-up of a point near a guide.
+  /// holds the axis; the angles widened by the look-up's arctangent error (1e-5 rad). A point
+  /// within δ of p that is farther than this from the axis (or centre) is outside the part, without
+  /// a look-up. +∞ for a spherical table's ball that holds the centre. What lets the rendered hair
+  /// skip the look-up of a point near a guide.
   double windowReach(const Eigen::Vector3d& p, double delta) const;
 
 private:
