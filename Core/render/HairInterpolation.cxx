@@ -616,8 +616,6 @@ Status HairInterpolation::evaluate(const GuideCurves& guides, const std::vector<
   return fill(samples, sampleScalars, skip, tips, origin, parts, out, counts, progress);
 }
 
-constexpr double HairInterpolation::PushOutSkip::Radius[Balls];
-
 bool HairInterpolation::PushOutSkip::outside(std::size_t k, const Eigen::Array4f& point,
                                              const std::vector<GuideSample>& samples) const
 {

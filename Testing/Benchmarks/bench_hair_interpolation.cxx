@@ -10,7 +10,6 @@
 // Command and figures: docs/benchmarks.md, "Rendered hair".
 #include "DemoScene.h"
 #include "render/HairInterpolation.h"
-#include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
 
@@ -51,22 +50,12 @@ Frame& frame()
   (void)sim.advanceTo(31);
   // The guides as Hair Simulation's output 0 gives them to Hair Interpolation: drawn from
   // the state at its default 16 points per element, with material frames and curvature.
-  const StateFrame& last = sim.frame(30);
-  GuideDrawing drawn;
-  if (Status s = drawGuides(sim.header(), last, 16, 2, drawn); !s)
+  if (Status s = drawnCurves(sim, 30, 16, {"curvature"}, f->curves); !s)
   {
     std::fprintf(stderr, "bench_hair_interpolation: %s\n", s.message().c_str());
     std::exit(1);
   }
-  f->curves.points = drawn.frame.positions;
-  for (std::int64_t o : drawn.header.offsets)
-    f->curves.offsets.push_back(std::size_t(o));
-  f->curves.tangents = drawn.tangents;
-  f->curves.directors = drawn.directors;
-  for (const auto& [name, values] : drawn.frame.pointData)
-    if (name == "curvature")
-      f->curves.scalars[name] = values;
-  scene.posedParts(last.time, f->parts);
+  scene.posedParts(sim.frame(30).time, f->parts);
   return *f;
 }
 

@@ -5,7 +5,6 @@
 #include "DemoScene.h"
 #include "collision/CollisionTable.h"
 #include "render/HairInterpolation.h"
-#include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
 
 #include <gtest/gtest.h>
@@ -478,14 +477,8 @@ TEST(HairInterpolation, CurlyHairKeepsItsCurlThroughTheShake)
   double worst = 0;
   for (const int f : {0, 15, 30, 38, 45, 53, 60, 67})
   {
-    GuideDrawing drawn;
-    ASSERT_TRUE(drawGuides(sim.header(), sim.frame(f), 16, 2, drawn).ok());
     GuideCurves c;
-    c.points = drawn.frame.positions;
-    for (std::int64_t off : drawn.header.offsets)
-      c.offsets.push_back(std::size_t(off));
-    c.tangents = drawn.tangents;
-    c.directors = drawn.directors;
+    ASSERT_TRUE(drawnCurves(sim, f, 16, {}, c).ok());
     double guide = 0;
     std::vector<float> xyz;
     for (std::size_t g = 0; g + 1 < c.offsets.size(); ++g)

@@ -1,5 +1,6 @@
 #include "DemoScene.h"
 
+#include "simulation/GuideDrawing.h"
 #include "strands/BundledBody.h"
 #include "strands/GuideGrowth.h"
 #include "strands/RootSampling.h"
@@ -43,6 +44,34 @@ Scene demoScene(const BundledBody& body)
   scene.parts[0].motion = scene.rootMotion;
   scene.air = AirField::uniform(Eigen::Vector3d(0, 0, -0.5));
   return scene;
+}
+
+Status drawnCurves(const Simulation& sim, int frame, int pointsPerElement,
+                   const std::vector<std::string>& scalars, GuideCurves& curves)
+{
+  GuideDrawing drawn;
+  if (Status s = drawGuides(sim.header(), sim.frame(frame), pointsPerElement, 2, drawn); !s)
+  {
+    return s;
+  }
+  curves = GuideCurves();
+  curves.points = drawn.frame.positions;
+  for (std::int64_t o : drawn.header.offsets)
+  {
+    curves.offsets.push_back(std::size_t(o));
+  }
+  curves.tangents = drawn.tangents;
+  curves.directors = drawn.directors;
+  for (const std::string& name : scalars)
+  {
+    const auto found = drawn.frame.pointData.find(name);
+    if (found == drawn.frame.pointData.end())
+    {
+      return Status::Error("the drawn guides have no point data " + name + ".");
+    }
+    curves.scalars[name] = found->second;
+  }
+  return Status::Ok();
 }
 
 } // namespace hair
