@@ -44,6 +44,40 @@ def tables(mesh, collision_map):
     return out
 
 
+# The demo's camera on a full head of hair: behind the left shoulder (+x), a little above the
+# head; during the shake the face turns this way, so it is seen in profile and the hair from
+# the side and back.
+HAIR_CAMERA, HAIR_FOCUS = [0.95, 1.68, -0.45], [0.0, 1.45, 0.0]
+
+
+def hair_look(view, display, array):
+    """The demo's look of rendered hair (Scripts/demo_hair.py, the GUI test's screenshot), on a
+    display whose strands are lit (lines given normals, or tubes) and coloured by `array` in
+    [0, 1] from root to tip: a warm highlight, dark brown roots to light brown tips, and
+    screen-space ambient occlusion over 1 cm in `view`, which darkens the hair between locks
+    and curls and under the outer layers. (ParaView's default ambient-occlusion presets scale
+    the radius with the whole scene, the body: a grain on the skin and the hair darkened all
+    over.)"""
+    ColorBy(display, ("POINTS", array))
+    display.SetScalarBarVisibility(view, False)
+    display.Ambient = 0.15
+    display.Diffuse = 0.85
+    display.Specular = 0.5
+    display.SpecularPower = 20.0
+    display.SpecularColor = [1.0, 0.9, 0.75]
+    lut = GetColorTransferFunction(array)
+    lut.RGBPoints = [0.0, 0.16, 0.10, 0.06, 0.45, 0.42, 0.27, 0.14, 1.0, 0.72, 0.54, 0.34]
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, 1.0)
+    view.UseFXAA = 1
+    view.UseAmbientOcclusion = 1
+    view.UseSSAODefaultPresets = 0
+    view.Radius = 0.01
+    view.Bias = 0.001
+    view.KernelSize = 32
+    view.Blur = 1
+
+
 def white_view(position, focal_point, size=None):
     v = CreateView("RenderView")
     if size:

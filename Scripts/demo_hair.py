@@ -18,8 +18,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from paraview.simple import (Calculator, ColorBy, GetColorTransferFunction, Hide, LoadPlugin,  # noqa: E402
-                             ProgrammableFilter, SaveScreenshot, Show)
+from paraview.simple import (Calculator, Hide, LoadPlugin, ProgrammableFilter,  # noqa: E402
+                             SaveScreenshot, Show)
 
 import bundled  # noqa: E402
 
@@ -29,9 +29,6 @@ STRANDS = 50000
 EARLY, SHOWN = 1.25, 2.25  # s: the head at the same end of its swing, one period apart
 AMPLITUDE, FREQUENCY = 0.5, 1.0  # rad, Hz: the shake of all three runs, about the vertical
 PIVOT = [0.0, 1.45, 0.02]        # through Hair Simulation's default Motion Pivot (the neck)
-# Behind the left shoulder (+x), a little above the head: at both times shown the shake has
-# turned the face this way, so the face is seen in profile and the hair from the side and back.
-CAMERA, FOCUS = [0.95, 1.68, -0.45], [0.0, 1.45, 0.0]
 # Lit lines: a line has no normal of its own, and VTK draws lines without normals unlit (flat
 # colour). Each point gets the normal of a hair seen from the camera: the direction to the eye
 # made perpendicular to the strand's tangent (the normal of a thin cylinder where the eye sees
@@ -62,7 +59,7 @@ arc = vtk_to_numpy(hair.GetPointData().GetArray("ArcParameter"))
 shade = numpy_to_vtk(np.clip(arc * per_point, 0, 1).astype(np.float32), deep=1)
 shade.SetName("HairShade")
 out.GetPointData().AddArray(shade)
-""".format(camera=CAMERA)
+""".format(camera=bundled.HAIR_CAMERA)
 
 body = bundled.body()
 parts = bundled.tables(body, CylindricalCollisionMap)  # noqa: F821
@@ -82,18 +79,7 @@ curly_sim.UpdatePipeline(SHOWN)
 runs = [("Super-Helix, wavy", os.path.join(out, "super-helix.h5")),
         ("Projective, wavy", os.path.join(out, "projective.h5")),
         ("Super-Helix, curly", curly_state)]
-view = bundled.white_view(CAMERA, FOCUS, size=[600, 700])
-view.UseFXAA = 1
-# Screen-space ambient occlusion, its radius and bias in metres: at 1 cm it darkens the hair
-# between locks and curls and under the outer layers, which gives the hair its depth.
-# ParaView's default presets scale the radius with the scene (the whole body): a grain on the
-# skin and the hair darkened all over.
-view.UseAmbientOcclusion = 1
-view.UseSSAODefaultPresets = 0
-view.Radius = 0.01
-view.Bias = 0.001
-view.KernelSize = 32
-view.Blur = 1
+view = bundled.white_view(bundled.HAIR_CAMERA, bundled.HAIR_FOCUS, size=[600, 700])
 
 
 def head_turn(t):
@@ -113,11 +99,6 @@ posed = Calculator(registrationName="body, head turned", Input=body, CoordinateR
 skin = Show(posed, view)
 skin.ColorArrayName = ["POINTS", ""]
 skin.DiffuseColor = [0.87, 0.76, 0.68]
-lut = GetColorTransferFunction("HairShade")
-# Dark brown at the roots through brown to a light, warm brown at the tips.
-lut.RGBPoints = [0.0, 0.16, 0.10, 0.06, 0.45, 0.42, 0.27, 0.14, 1.0, 0.72, 0.54, 0.34]
-lut.AutomaticRescaleRangeMode = "Never"
-lut.RescaleTransferFunction(0.0, 1.0)
 pictures = []
 print(f"{'run':<22}{'strands':>9}{'points':>11}{'frame (s)':>11}{'pushed out':>12}{'left inside':>13}")
 for name, state in runs:
@@ -136,15 +117,9 @@ for name, state in runs:
               f"{seconds:>11.2f}{pushed:>12}{left:>13}")
     lit = ProgrammableFilter(registrationName=f"{name} lit hair", Input=hair, Script=LIT_HAIR)
     display = Show(lit, view)
-    ColorBy(display, ("POINTS", "HairShade"))
-    display.SetScalarBarVisibility(view, False)
     display.Interpolation = "Gouraud"
     display.LineWidth = 1.0
-    display.Ambient = 0.15
-    display.Diffuse = 0.85
-    display.Specular = 0.5
-    display.SpecularPower = 20.0
-    display.SpecularColor = [1.0, 0.9, 0.75]
+    bundled.hair_look(view, display, "HairShade")
     for when in (EARLY, SHOWN):
         view.ViewTime = when
         posed.Function = head_turn(when)

@@ -27,6 +27,7 @@ tmp = tempfile.mkdtemp()
 marker = os.path.join(tmp, "proxies.txt")
 rendered = os.path.join(tmp, "rendered.txt")
 body_file = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data", "body.vtk")
+scripts = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Scripts"))
 check = os.path.join(tmp, "check.py")
 with open(check, "w") as f:
     f.write(f"""
@@ -37,8 +38,11 @@ found = [name for group, name in (("filters", "CylindricalCollisionMap"), ("filt
          ("filters", "HairInterpolation"))
          if pxm.GetPrototypeProxy(group, name) is not None]
 open({marker!r}, "w").write(" ".join(found))
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, GetColorTransferFunction,
-                             HairInterpolation, HairSimulation, HairStrands, LegacyVTKReader, Render, Show)
+from paraview.simple import (GetActiveViewOrCreate, GetAnimationScene, HairInterpolation, HairSimulation,
+                             HairStrands, LegacyVTKReader, Render, Show)
+import sys
+sys.path.insert(0, {scripts!r})
+import bundled
 body = LegacyVTKReader(registrationName="body", FileNames=[{os.path.abspath(body_file)!r}])
 guides = HairStrands(registrationName="guides", Input=body, NumberOfStrands=200, StrandLength=0.3,
                      HairType="Wavy (Caucasian 1)", Growth="Combed", CombDirection=[0, -1, -0.3],
@@ -50,34 +54,19 @@ view = GetActiveViewOrCreate("RenderView")
 skin = Show(body, view)
 skin.DiffuseColor = [0.87, 0.76, 0.68]
 shown = Show(hair, view)
-ColorBy(shown, ("POINTS", "ArcParameter"))
-# The look of Scripts/demo_hair.py by display properties only: lit tubes (lines, which have
-# no normals, are drawn unlit), a highlight, the demo's colours from dark roots to light tips,
-# and ambient occlusion over 1 cm. Tubes coloured through a texture (scalars interpolated
-# before mapping) are drawn behind the body in ParaView 5.11: colours are interpolated after.
+# The look of Scripts/demo_hair.py (Scripts/bundled.py's hair_look) on lit tubes: lines have no
+# normals and are drawn unlit. Tubes coloured through a texture (scalars interpolated before
+# mapping) are drawn behind the body in ParaView 5.11: colours are interpolated after.
 shown.RenderLinesAsTubes = 1
 shown.LineWidth = 2.0
 shown.InterpolateScalarsBeforeMapping = 0
-shown.Ambient = 0.15
-shown.Diffuse = 0.85
-shown.Specular = 0.5
-shown.SpecularPower = 20.0
-shown.SpecularColor = [1.0, 0.9, 0.75]
-lut = GetColorTransferFunction("ArcParameter")
-lut.RGBPoints = [0.0, 0.16, 0.10, 0.06, 0.45, 0.42, 0.27, 0.14, 1.0, 0.72, 0.54, 0.34]
-view.UseFXAA = 1
-view.UseAmbientOcclusion = 1
-view.UseSSAODefaultPresets = 0
-view.Radius = 0.01
-view.Bias = 0.001
-view.KernelSize = 32
-view.Blur = 1
+bundled.hair_look(view, shown, "ArcParameter")
 scene = GetAnimationScene()
 scene.UpdateAnimationUsingDataTimeSteps()
 scene.AnimationTime = 1.0
 Render(view)
-view.CameraPosition = [0.95, 1.68, -0.45]
-view.CameraFocalPoint = [0.0, 1.45, 0.0]
+view.CameraPosition = bundled.HAIR_CAMERA
+view.CameraFocalPoint = bundled.HAIR_FOCUS
 view.CameraViewUp = [0, 1, 0]
 Render(view)
 data = hair.GetClientSideObject().GetOutputDataObject(0)
