@@ -8,14 +8,79 @@
 namespace hair
 {
 
+namespace
+{
+Status bad(const char* name, double value, const char* want)
+{
+  std::ostringstream s;
+  s << "the contact " << name << " is " << value << "; " << want << ".";
+  return Status::Error(s.str());
+}
+/// The stick–slip law of static friction. A sample at world position `x`, tangential
+/// velocity `ut` relative to `body`, anchored by `anchor` (set here on first touch), is held
+/// by a tangential spring of stiffness `k` towards its anchor; `tangential` is I − n nᵀ,
+/// `limit` μ_s λ, `kinetic` μ λ. Returns true when it sticks: `stretch` is then the
+/// tangential offset x − anchor the spring acts on (drawn back to the cone's edge when the
+/// anchor flows after a transient). False: it slides under the kinetic law, its anchor moved
+/// to trail it at the stretch where the spring pulls with `kinetic`.
+bool stickOrSlide(BodyAnchor& anchor, const PosedPart& body, const Eigen::Vector3d& x,
+                  const Eigen::Vector3d& ut, const Eigen::Matrix3d& tangential, double k,
+                  double limit, double kinetic, double slipVelocity, Eigen::Vector3d& stretch)
+{
+  if (!anchor.set)
+  {
+    anchor = BodyAnchor();
+    anchor.set = true;
+    anchor.rest = body.toRest(x);
+  }
+  // The sample sticks while the spring's stretch alone stays within the cone (the damper's
+  // share would let a suddenly loaded contact break away on its transient); the caller keeps
+  // the force, damper included, within μ_s λ.
+  stretch = tangential * (x - body.pose * anchor.rest);
+  const double speed = ut.norm();
+  double sn = stretch.norm();
+  // A sliding sample slides on (kinetic) until it slows below half the slip velocity.
+  const bool slides = anchor.sliding && speed >= 0.5 * slipVelocity;
+  anchor.sliding = slides;
+  if (!slides)
+  {
+    if (k * sn > limit && speed < slipVelocity && anchor.flows < BodyAnchor::MaxFlows)
+    {
+      // Stretched past the cone while hardly moving (a transient of the load, the rod's own
+      // vibration): the anchor is drawn after the sample to the cone's edge and the contact
+      // holds from there. A load that has passed leaves the sample stuck at its new anchor;
+      // one that stays beyond μ_s λ draws it on step after step, and after MaxFlows steps
+      // the sample slides (held by the spring, it would creep at (load − μ_s λ)/(k h)
+      // instead; yielding at once, a 3 % transient at 90 % of the cone unzipped a strand).
+      stretch *= limit / (k * sn);
+      sn = limit / k;
+      anchor.rest = body.toRest(x - stretch);
+      ++anchor.flows;
+    }
+    else if (k * sn <= limit)
+    {
+      anchor.flows = 0;
+    }
+    if (k * sn <= limit * (1 + 1e-9))
+    {
+      return true;
+    }
+  }
+  anchor.flows = 0;
+  anchor.sliding = true;
+  // Sliding: the anchor trails the sample by the stretch at which the spring would pull
+  // with the kinetic force, so that a slowing sample is caught without a jump.
+  const Eigen::Vector3d away =
+      sn > 0 ? Eigen::Vector3d(stretch / sn)
+             : Eigen::Vector3d(speed > 0 ? Eigen::Vector3d(ut / speed) : Eigen::Vector3d::Zero());
+  anchor.rest = body.toRest(x - (kinetic / k) * away);
+  return false;
+}
+
+} // namespace
+
 Status BodyContactParameters::validate() const
 {
-  auto bad = [](const char* name, double value, const char* want)
-  {
-    std::ostringstream s;
-    s << "the contact " << name << " is " << value << "; " << want << ".";
-    return Status::Error(s.str());
-  };
   if (!std::isfinite(stiffness) || !(stiffness > 0))
   {
     return bad("stiffness", stiffness,
@@ -146,42 +211,10 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
   // as the normal penalty: its stiffness k and damping c).
   if (anchor && p.staticFriction > 0)
   {
-    if (!anchor->set)
-    {
-      anchor->set = true;
-      anchor->rest = body.toRest(x);
-    }
-    // The sample sticks while the spring's stretch alone stays within the cone (the damper's
-    // share would let a suddenly loaded contact break away on its transient); the force,
-    // damper included, is kept within μ_s λ.
-    Eigen::Vector3d stretch = tangential * (x - body.pose * anchor->rest);
+    Eigen::Vector3d stretch;
     const double limit = p.staticFriction * lambda;
-    double sn = stretch.norm();
-    // A sliding sample slides on (kinetic) until it slows below half the slip velocity.
-    const bool slides = anchor->sliding && ut.norm() >= 0.5 * p.slipVelocity;
-    anchor->sliding = slides;
-    if (slides)
-    {
-      sn = std::numeric_limits<double>::infinity();
-    }
-    else if (k * sn > limit && ut.norm() < p.slipVelocity && anchor->flows < BodyAnchor::MaxFlows)
-    {
-      // Stretched past the cone while hardly moving (a transient of the load, the rod's own
-      // vibration): the anchor is drawn after the sample to the cone's edge and the contact
-      // holds from there. A load that has passed leaves the sample stuck at its new anchor;
-      // one that stays beyond μ_s λ draws it on step after step, and after MaxFlows steps
-      // the sample slides (held by the spring, it would creep at (load − μ_s λ)/(k h)
-      // instead; yielding at once, a 3 % transient at 90 % of the cone unzipped a strand).
-      stretch *= limit / (k * sn);
-      sn = limit / k;
-      anchor->rest = body.toRest(x - stretch);
-      ++anchor->flows;
-    }
-    else if (k * sn <= limit)
-    {
-      anchor->flows = 0;
-    }
-    if (k * sn <= limit * (1 + 1e-9))
+    if (stickOrSlide(*anchor, body, x, ut, tangential, k, limit, p.friction * lambda,
+                     p.slipVelocity, stretch))
     {
       const Eigen::Vector3d hold = -k * stretch - c * ut;
       const double h = hold.norm();
@@ -191,15 +224,6 @@ bool BodyContacts::respondOne(const Eigen::Vector3d& x, const Eigen::Vector3d& v
       out.damping += scale * c * tangential;
       return true;
     }
-    anchor->flows = 0;
-    anchor->sliding = true;
-    // Sliding: the anchor trails the sample by the stretch at which the spring would pull
-    // with the kinetic force, so that a slowing sample is caught without a jump.
-    const double stretched = stretch.norm();
-    const Eigen::Vector3d away =
-        stretched > 0 ? Eigen::Vector3d(stretch / stretched)
-                      : Eigen::Vector3d(ut.norm() > 0 ? ut.normalized() : Eigen::Vector3d::Zero());
-    anchor->rest = body.toRest(x - (p.friction * lambda / k) * away);
   }
   if (p.friction > 0)
   {
@@ -244,7 +268,7 @@ void BodyContacts::respond(const std::vector<StrandSample>& samples, double line
                                       bodies[k], r, depth, anchor);
       if (anchor && !touches)
       {
-        anchor->set = false; // left the part: a new touch anchors anew
+        *anchor = BodyAnchor(); // left the part: a new touch anchors anew, sticking
       }
       if (touches)
       {
