@@ -1,5 +1,7 @@
 #include "collision/PosedPart.h"
 
+#include <algorithm>
+
 namespace hair
 {
 
@@ -118,6 +120,35 @@ bool insideDepth(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, 
     }
   }
   return inside;
+}
+
+double drapeOutside(const std::vector<PosedPart>& parts, double clearance,
+                    std::vector<Eigen::Vector3d>& points)
+{
+  const std::vector<Eigen::Vector3d> grown = points;
+  double moved = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+  {
+    const Eigen::Vector3d segment = grown[i] - grown[i - 1];
+    const double length = segment.norm();
+    Eigen::Vector3d q = points[i - 1] + segment;
+    PartContact c;
+    // Out along the normal, back to the segment's length; where that does not leave the part
+    // within a few turns (a segment pointing into a concave place), the last try is kept.
+    for (int iter = 0; iter < 8 && deepestPart(parts, q, clearance, c) && c.depth > 0; ++iter)
+    {
+      const Eigen::Vector3d target = q + (c.depth + clearance) * c.normal;
+      const Eigen::Vector3d towards = target - points[i - 1];
+      if (!(towards.norm() > 0))
+      {
+        break;
+      }
+      q = points[i - 1] + length * towards.normalized();
+    }
+    points[i] = q;
+    moved = std::max(moved, (q - grown[i]).norm());
+  }
+  return moved;
 }
 
 } // namespace hair

@@ -59,6 +59,16 @@ bool deepestPart(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, 
 /// Whether x is inside any of the parts (the table's inside test alone: no depth, no normal).
 bool insideAny(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x);
 
+/// Drapes a polyline (root first) over the parts it enters, the root kept: from the root on,
+/// each segment keeps its direction and length, carried by the points before it as they
+/// were moved (as the projective model's projection carries a strand); a point the table
+/// says is inside a part is put `clearance` outside along the surface normal and then back to
+/// its segment's length from the point before (a few times, as the projection does). Returns
+/// the largest distance a point moved (0: no point was inside). A strand grown straight
+/// through the shoulders comes out lying on them.
+double drapeOutside(const std::vector<PosedPart>& parts, double clearance,
+                    std::vector<Eigen::Vector3d>& points);
+
 /// Whether x is inside any of the parts, and the largest depth among those it is inside
 /// (0 when inside none): the penetration measure of a point.
 bool insideDepth(const std::vector<PosedPart>& parts, const Eigen::Vector3d& x, double& depth);

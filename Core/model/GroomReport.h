@@ -32,6 +32,10 @@ struct GroomReport
   double stability = 0;
   /// For Unstable and BeyondBending: why, in words.
   std::string reason;
+  /// A grown strand whose shape at t = 0 entered the body starts draped over it
+  /// (collision/PosedPart.h, drapeOutside): the largest distance a point of it was moved
+  /// [m]; 0 for a strand that started outside (or a groom: its curve is the shape asked for).
+  double drape = 0;
 };
 
 /// How sag-free rest shapes are found (superhelix/SagFree.h, projective/ProjectiveGroom.h).

@@ -34,6 +34,9 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
   std::vector<ProjectiveStrand> strands(guides.size());
   Built = guides;
   Reports.assign(guides.size(), GroomReport());
+  // The parts at t = 0, over which a grown strand that starts inside them is draped.
+  std::vector<PosedPart> parts;
+  scene.posedParts(0, parts);
   for (std::size_t k = 0; k < guides.size(); ++k)
   {
     const GuideStrand& g = guides[k];
@@ -62,6 +65,16 @@ Status ProjectiveModel::initialize(const std::vector<GuideStrand>& guides, const
       return Status::Error("strand " + std::to_string(run.strandId(k)) + ": " + s.message());
     }
     strands[k].parameters = material(g.hair);
+    if (g.curve.empty() && !parts.empty())
+    {
+      // Grown into the body (a straight guide through the shoulders): it starts draped over
+      // it, a contact margin out; its rest shape stays the grown one.
+      Reports[k].drape = drapeOutside(parts, Options.contactMargin, points);
+      if (Reports[k].drape > 0)
+      {
+        strands[k].angles = anglesAlong(strands[k].rootFrame, points);
+      }
+    }
   }
   ProjectiveOptions o = Options;
   o.timeStep = stepFor(run);

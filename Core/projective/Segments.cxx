@@ -102,18 +102,25 @@ Status strandFromPolyline(const std::vector<Eigen::Vector3d>& points,
   strand.root = points[0];
   strand.rootFrame = r;
   strand.segmentLength = d;
-  strand.restAngles.resize(k);
-  Eigen::Matrix3d parent = r;
-  for (std::size_t i = 0; i < k; ++i)
+  strand.restAngles = anglesAlong(r, points);
+  return Status::Ok();
+}
+
+std::vector<Eigen::Vector2d> anglesAlong(const Eigen::Matrix3d& rootFrame,
+                                         const std::vector<Eigen::Vector3d>& points)
+{
+  std::vector<Eigen::Vector2d> angles(points.empty() ? 0 : points.size() - 1);
+  Eigen::Matrix3d parent = rootFrame;
+  for (std::size_t i = 0; i < angles.size(); ++i)
   {
     const Eigen::Vector3d u = (points[i + 1] - points[i]).normalized();
     const Eigen::Vector3d l = parent.transpose() * u;
     const double theta = std::acos(std::clamp(l.x(), -1.0, 1.0));
     const double phi = std::atan2(l.y(), l.z());
-    strand.restAngles[i] = Eigen::Vector2d(theta, phi);
+    angles[i] = Eigen::Vector2d(theta, phi);
     parent = parent * segmentRotation(theta, phi);
   }
-  return Status::Ok();
+  return angles;
 }
 
 Status ProjectiveParameters::validate() const

@@ -74,6 +74,12 @@ Eigen::Matrix3d segmentFrame(const Eigen::Matrix3d& materialFrame);
 Status strandFromPolyline(const std::vector<Eigen::Vector3d>& points,
                           const Eigen::Vector3d& rootSide, ProjectiveStrand& strand);
 
+/// The angles (θ, φ) of the segments of a polyline (root first) chained from `rootFrame`,
+/// one per segment: the polyline's directions, whatever the frame's e3 (the first segment
+/// need not continue it).
+std::vector<Eigen::Vector2d> anglesAlong(const Eigen::Matrix3d& rootFrame,
+                                         const std::vector<Eigen::Vector3d>& points);
+
 /// Quadratic air drag on a straight segment of length `length`, unit direction `tangent`,
 /// moving at `segmentVelocity` in air moving at `air`: only the relative flow across the
 /// segment counts (independence principle),

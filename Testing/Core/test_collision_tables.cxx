@@ -779,3 +779,43 @@ TEST(BundledBody, WindowReachIsABoundNoInsidePointEscapes)
   EXPECT_EQ(disagree, 0);
   EXPECT_GT(cleared, tested / 4);
 }
+
+TEST(Drape, StraightStrandThroughABallComesOutLyingOnIt)
+{
+  // A straight strand grown from the side of a ball (radius 0.1 m, exact spherical table)
+  // tilted 60° into it: draped, no point is inside, each point is at least the clearance
+  // out or where the strand left the ball, the root and every segment's length are kept,
+  // the move is reported; a strand already outside is left exactly as it was.
+  const hairtest::Ellipsoid ball(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
+  CollisionTable table;
+  TableSpec spec;
+  spec.projection = Projection::Spherical;
+  ASSERT_TRUE(table.build(spec, ball).ok());
+  const std::vector<PosedPart> parts = {PosedPart::still(table)};
+  const Eigen::Vector3d root(0.1, 0, 0);
+  const Eigen::Vector3d into = Eigen::Vector3d(-0.5, -std::sqrt(0.75), 0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i <= 30; ++i)
+    points.push_back(root + 0.01 * i * into);
+  const double clearance = 1e-3;
+  const double moved = drapeOutside(parts, clearance, points);
+  EXPECT_GT(moved, clearance); // it was inside: 30° into the ball
+  EXPECT_EQ(points[0], root);
+  double closest = 1;
+  for (std::size_t i = 1; i < points.size(); ++i)
+  {
+    EXPECT_FALSE(insideAny(parts, points[i])) << i;
+    EXPECT_NEAR((points[i] - points[i - 1]).norm(), 0.01, 1e-12) << i;
+    closest = std::min(closest, points[i].norm() - 0.1);
+  }
+  // It lies on the ball: the nearest point within the clearance (and round-off) of it.
+  EXPECT_LT(closest, clearance + 1e-6);
+  std::printf("draped: moved %.1f mm, nearest point %.3f mm from the ball\n", 1e3 * moved,
+              1e3 * closest);
+  std::vector<Eigen::Vector3d> outside;
+  for (int i = 0; i <= 30; ++i)
+    outside.push_back(root + 0.01 * i * Eigen::Vector3d::UnitX());
+  const std::vector<Eigen::Vector3d> before = outside;
+  EXPECT_EQ(drapeOutside(parts, clearance, outside), 0.0);
+  EXPECT_EQ(outside, before);
+}
