@@ -22,6 +22,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkTable.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -471,6 +472,21 @@ void vtkHairSimulation::WarnGroom()
   // each named with the reason (the output's RestShapeStatus, GroomDeviation and Stability
   // cell arrays carry them all).
   const std::vector<hair::GroomReport>& reports = this->Internal->Sim.groomReports();
+  // Grown strands that entered the body start draped over it (the projective model).
+  std::size_t draped = 0;
+  double moved = 0;
+  for (const hair::GroomReport& r : reports)
+  {
+    draped += r.drape > 0;
+    moved = std::max(moved, r.drape);
+  }
+  if (draped > 0)
+  {
+    vtkWarningMacro(<< "Hair Simulation: " << draped << " of " << reports.size()
+                    << " grown strands entered the body's tables and start draped over it "
+                       "(moved up to "
+                    << 1e3 * moved << " mm; their rest shape is the grown one).");
+  }
   std::vector<std::size_t> notHeld;
   for (std::size_t k = 0; k < reports.size(); ++k)
   {
