@@ -147,6 +147,9 @@ TEST_P(SimulationModels, PenetrationIsMeasuredAgainstTheTables)
   auto g = guides(1, GetParam() == ModelType::SuperHelix ? 5 : 20);
   g[0].root = Eigen::Vector3d(0.1, 1.6, 0);
   g[0].growth = Eigen::Vector3d(0, -1, 0);
+  // As a groom's curve: a grown strand that enters the body starts draped over it (the
+  // projective model), a curve is the shape asked for.
+  g[0].curve = {g[0].root, g[0].root + g[0].length * g[0].growth};
   SimulationOptions o;
   o.model = GetParam();
   Simulation sim;
