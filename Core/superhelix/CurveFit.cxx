@@ -361,7 +361,7 @@ void refineElements(const std::vector<Eigen::Vector3d>& x, const std::vector<dou
 double leastSquares(const std::vector<Eigen::Vector3d>& x, const std::vector<double>& sigma,
                     bool footPoints, Eigen::Matrix3d& F0, Eigen::VectorXd& q, double& L,
                     std::vector<double>& s, int maxIterations, double relativeDecrease,
-                    int& iterations)
+                    int& iterations, double twistWeight, double twistPrior)
 {
   const std::size_t M = x.size() - 1;
   const int n = static_cast<int>(q.size() / 3);
@@ -413,6 +413,10 @@ double leastSquares(const std::vector<Eigen::Vector3d>& x, const std::vector<dou
       }
       c += d.squaredNorm();
     }
+    for (int e = 0; e < n; ++e)
+    {
+      c += twistWeight * (qq(3 * e) - twistPrior) * (qq(3 * e) - twistPrior);
+    }
     return c;
   };
   chain.build(q, F0, x[0], L);
@@ -442,6 +446,11 @@ double leastSquares(const std::vector<Eigen::Vector3d>& x, const std::vector<dou
       }
       H.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
       g.noalias() += J.transpose() * d;
+    }
+    for (int e = 0; e < n; ++e)
+    {
+      H(3 * e, 3 * e) += twistWeight;
+      g(3 * e) += twistWeight * (q(3 * e) - twistPrior);
     }
     H.triangularView<Eigen::Upper>() = H.transpose();
     const double diagMax = H.diagonal().maxCoeff();
@@ -523,7 +532,7 @@ void superHelixPoints(const Eigen::VectorXd& q, const Eigen::Matrix3d& rootFrame
 }
 
 Status fitSuperHelix(const std::vector<Eigen::Vector3d>& curve, const Eigen::Vector3d& normal,
-                     int elements, SuperHelixFit& fit)
+                     int elements, SuperHelixFit& fit, double twistWeight, double twistPrior)
 {
   if (curve.size() < 2 || elements < 1)
   {
@@ -580,8 +589,9 @@ Status fitSuperHelix(const std::vector<Eigen::Vector3d>& curve, const Eigen::Vec
     // a curve that is a Super-Helix converges quadratically to round-off; on any other the
     // fit stops when a step gains less than 1e-9 of the sum of squares (the error's
     // fourth digit).
-    leastSquares(x, sigma, false, Fa, qa, La, sa, 30, 1e-4, ia);
-    const double c = leastSquares(x, sigma, true, Fa, qa, La, sa, 200, 1e-9, ib);
+    leastSquares(x, sigma, false, Fa, qa, La, sa, 30, 1e-4, ia, twistWeight, twistPrior);
+    const double c =
+        leastSquares(x, sigma, true, Fa, qa, La, sa, 200, 1e-9, ib, twistWeight, twistPrior);
     if (c < best)
     {
       best = c;

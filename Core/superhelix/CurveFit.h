@@ -34,8 +34,13 @@ struct SuperHelixFit
 /// The root is curve[0] exactly; `normal` orients the root's material frame (any vector not
 /// parallel to the root tangent; the scalp normal). Curves with fewer than four points per
 /// element are first refined by points on their chords (so that the fit is determined).
+/// `twistWeight` [m⁴] > 0 adds twistWeight Σ (τ_e − twistPrior)² to the sum of squares: on a
+/// nearly straight element the positions do not determine the twist, and a fit left free
+/// there can return twists of 1e3–1e7 1/m that no step can take (measured on grooms of
+/// straight hair settled on the body: the first step blew up).
 Status fitSuperHelix(const std::vector<Eigen::Vector3d>& curve, const Eigen::Vector3d& normal,
-                     int elements, SuperHelixFit& fit);
+                     int elements, SuperHelixFit& fit, double twistWeight = 0,
+                     double twistPrior = 0);
 
 /// The centreline of the Super-Helix (q, rootFrame, root, equal elements of `length` / N) at
 /// arc lengths `s` (each clamped to [0, length]): the fit's own forward map, for tests and

@@ -247,7 +247,18 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
   double length = g.length;
   if (!g.curve.empty())
   {
-    if (Status s = fitSuperHelix(g.curve, g.normal, g.elements, fit); !s)
+    // The twist held towards the hair's natural twist where the curve leaves it free (a
+    // nearly straight element): one radian an element costs as much as 1 µm at one point.
+    // (ℓ from the curve itself, so that a run of the guides read back from its state file,
+    // whose length is the fit's, fits the same.)
+    double element = 0;
+    for (std::size_t i = 1; i < g.curve.size(); ++i)
+    {
+      element += (g.curve[i] - g.curve[i - 1]).norm() / g.elements;
+    }
+    if (Status s = fitSuperHelix(g.curve, g.normal, g.elements, fit, 1e-12 * element * element,
+                                 g.hair.naturalCurvature()[0]);
+        !s)
     {
       return Status::Error(name + ": " + s.message());
     }
