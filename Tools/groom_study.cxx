@@ -3,12 +3,14 @@
 //
 //   groom_study out=<csv> [strands=200] [presets=smooth,wavy,curly,fuzzy]
 //               [models=super-helix,projective] [elements=10] [hold=10] [release=10]
-//               [threads=2] [curves=<csv>] [static=0]
+//               [threads=2] [curves=<csv>] [static=0] [groom=shaken]
 //
 // For each model and preset: `strands` guides grown as Hair Strands grows them by default on
 // the bundled body's scalp (30 cm along the normal, seed 1), shaken 0.5 s as Hair Simulation
 // shakes by default (±0.5 rad at 1 Hz about the neck; the head is back at rest at 0.5 s), and
 // that frame given back as the groom (Hair Strands' guide curves: roots moved onto the scalp).
+// groom=settled: instead, the guides settled 3 s at rest on the body (with `static`), and
+// that frame given back as the groom: hair where it came to rest.
 // Then, with head and trunk tables and dt = 1/30 s (frames of 1/30 s):
 //   hold     the groom made sag-free, no motion, `hold` s: each strand's largest distance
 //            from the groom at any point and frame;
@@ -176,8 +178,9 @@ void writeCurves(std::ofstream& out, const std::string& model, const std::string
 int main(int argc, char** argv)
 {
   Arguments args;
-  const std::set<std::string> known = {"out",  "strands", "presets", "models", "elements",
-                                       "hold", "release", "threads", "curves", "static"};
+  const std::set<std::string> known = {"out",      "strands", "presets", "models",
+                                       "elements", "hold",    "release", "threads",
+                                       "curves",   "static",  "groom"};
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -186,7 +189,7 @@ int main(int argc, char** argv)
     {
       return fail("argument '" + a +
                       "' is not one of out=, strands=, presets=, models=, "
-                      "elements=, hold=, release=, threads=, curves=, static=.",
+                      "elements=, hold=, release=, threads=, curves=, static=, groom=.",
                   2);
     }
     args.values[a.substr(0, eq)] = a.substr(eq + 1);
@@ -209,6 +212,11 @@ int main(int argc, char** argv)
   catch (const std::exception&)
   {
     return fail("strands, elements, threads, hold, release and static are numbers.", 2);
+  }
+  const std::string groomKind = args.values.count("groom") ? args.values["groom"] : "shaken";
+  if (groomKind != "shaken" && groomKind != "settled")
+  {
+    return fail("groom is shaken (the frame at 0.5 s of the shake) or settled (3 s at rest).", 2);
   }
   if (!(staticFriction == 0 || staticFriction >= BodyContactParameters().friction))
   {
@@ -316,11 +324,18 @@ int main(int argc, char** argv)
       {
         return fail(s.message(), 1);
       }
-      // The groom: the shaken frame at 0.5 s.
+      // The groom: the shaken frame at 0.5 s, or the frame at 3 s at rest.
       Run shake;
-      if (Status s = simulate(grown, shaken, o, 16, 15, Curves(grown.size()), shake); !s)
+      const bool settled = groomKind == "settled";
+      if (settled)
       {
-        return fail(modelName + ", " + presetName + ", shake: " + s.message(), 1);
+        o.superHelix.contacts.staticFriction = staticFriction;
+      }
+      if (Status s = settled ? simulate(grown, still, o, 91, 90, Curves(grown.size()), shake)
+                             : simulate(grown, shaken, o, 16, 15, Curves(grown.size()), shake);
+          !s)
+      {
+        return fail(modelName + ", " + presetName + ", groom: " + s.message(), 1);
       }
       const Curves groomCurves = shake.end;
       o.superHelix.contacts.staticFriction = staticFriction;
