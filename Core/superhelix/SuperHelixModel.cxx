@@ -188,15 +188,21 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     p.angularVelocity.setZero();
   }
   ContactForces restContacts;
+  // With static friction, each strand's anchors where it rests on the body: a shape held at
+  // rest is held against sliding too, so its stability (the Hessian, and the settling run
+  // that checks it) counts the anchors' tangential springs at the samples that touch; the
+  // balance itself is unchanged (the springs pull nothing at zero stretch).
+  std::vector<std::vector<BodyAnchor>> restAnchors(guides.size());
   if (Options.contacts.enabled && !still.empty())
   {
     // Called by buildStrand's wrapper with the strand's place k here (the strand itself
     // would give its id, its number in the run, which under MPI is not its place).
-    restContacts = [this, &still, &guides](int k, double, const std::vector<StrandSample>& samples,
-                                           std::vector<ContactResponse>& response)
+    restContacts = [this, &still, &guides, &restAnchors](int k, double,
+                                                         const std::vector<StrandSample>& samples,
+                                                         std::vector<ContactResponse>& response)
     {
       Body.respond(samples, guides[k].hair.linearDensity(), still.data(),
-                   static_cast<int>(still.size()), response);
+                   static_cast<int>(still.size()), response, nullptr, &restAnchors[k]);
     };
   }
   Helices.assign(guides.size(), SuperHelix());

@@ -2,6 +2,9 @@
 // stays so under gravity for 10 s at dt = 1/30 s at every N from 1 to 20; the balance is
 // exact to round-off; the stability is the Hessian's, checked against the closed form for
 // one element; shapes that cannot be held are reported with the closest stable one.
+#include "AnalyticBodies.h"
+#include "collision/CollisionTable.h"
+#include "contact/BodyContacts.h"
 #include "strands/GuideStrand.h"
 #include "superhelix/CurveFit.h"
 #include "superhelix/SagFree.h"
@@ -12,10 +15,16 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 using namespace hair;
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+} // namespace
 
 namespace
 {
@@ -269,4 +278,55 @@ TEST(GroomSagFree, StrandsSettledUnderGravityAreStable)
         (h.stiffnessDiagonal().array() * (h.q() - h.restCurvature()).array()).matrix() - f;
     EXPECT_LE(balance.norm(), 1e-6 * f.norm()) << toString(t);
   }
+}
+
+TEST(GroomSagFree, StaticFrictionHoldsAStrandAcrossASlope)
+{
+  // 12 cm of straight hair lying across a slope of 45° (along a generator of a 1 m cylinder,
+  // gravity tilted so that it presses the strand on the side with g cos α and pulls it down
+  // the slope with g sin α), made sag-free where it lies. Frictionless, the balance holds it
+  // across the slope by bending alone, as a cantilever held out sideways: past the
+  // lateral–torsional limit (≈ 9 cm at 0.7 g) it twists over, down the slope — the
+  // Hessian's smallest eigenvalue is negative. With static friction the samples that touch
+  // are anchored (the body contacts' tangential springs): a shape the balance holds is then
+  // held against sliding too, and the same shape is stable.
+  const double R = 1.0, alpha = Pi / 4;
+  const hairtest::CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
+  CollisionTable part;
+  TableSpec spec;
+  spec.projection = Projection::Cylindrical;
+  spec.azimuthSamples = spec.secondSamples = 400;
+  spec.heightMin = -0.5;
+  spec.heightMax = 0.5;
+  ASSERT_TRUE(part.build(spec, body).ok());
+  const std::vector<PosedPart> parts = {PosedPart::still(part)};
+  const int n = 10;
+  StrandSpec s = StrandSpec::uniform(0.12, n, HairParameters::preset(HairType::Smooth));
+  s.gravity = -9.81 * Eigen::Vector3d(std::cos(alpha), 0, std::sin(alpha));
+  BodyContactParameters prm;
+  const double rhoS = s.hair.linearDensity();
+  const double out = prm.thickness - rhoS * 9.81 * std::cos(alpha) / prm.stiffness;
+  RootState root;
+  root.position = Eigen::Vector3d(R + out, -0.06, 0);
+  root.orientation = orthonormalFrame(Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX());
+  s.root = [root](double) { return root; };
+  double stability[2] = {0, 0};
+  for (int sticking = 0; sticking < 2; ++sticking)
+  {
+    prm.staticFriction = sticking ? 0.4 : 0;
+    BodyContacts contacts;
+    ASSERT_TRUE(contacts.setParameters(prm).ok());
+    auto anchors = std::make_shared<std::vector<BodyAnchor>>();
+    const ContactForces hook =
+        [&contacts, &parts, rhoS, anchors](int, double, const std::vector<StrandSample>& x,
+                                           std::vector<ContactResponse>& r)
+    { contacts.respond(x, rhoS, parts.data(), 1, r, nullptr, anchors.get()); };
+    SagFreeResult r;
+    ASSERT_TRUE(sagFree(s, Eigen::VectorXd::Zero(3 * n), hook, SagFreeOptions(), r));
+    stability[sticking] = r.stability;
+    std::printf("mu_s = %.1f: %s, stability %.3g%s%s\n", prm.staticFriction, toString(r.outcome),
+                r.stability, r.reason.empty() ? "" : ": ", r.reason.c_str());
+  }
+  EXPECT_LT(stability[0], 0);
+  EXPECT_GT(stability[1], SagFreeOptions().stabilityMargin);
 }
