@@ -13,6 +13,11 @@
 namespace hair
 {
 
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+} // namespace
+
 const char* toString(HairHairSolver solver)
 {
   switch (solver)
@@ -253,20 +258,35 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
   double length = g.length;
   if (!g.curve.empty())
   {
-    // The twist held towards the hair's natural twist where the curve leaves it free (a
-    // nearly straight element): one radian an element costs as much as 1 µm at one point.
-    // (ℓ from the curve itself, so that a run of the guides read back from its state file,
-    // whose length is the fit's, fits the same.)
+    if (Status s = fitSuperHelix(g.curve, g.normal, g.elements, fit); !s)
+    {
+      return Status::Error(name + ": " + s.message());
+    }
+    // Where the curve leaves an element's twist free (it hardly bends there), the fit can end
+    // at twists no step can take (measured: 1e3–1e7 1/m on a settled smooth groom, which blew
+    // the first step up). A fit that twists an element more than half a turn away from the
+    // hair's natural twist is done again with the twist held towards it: a radian an element
+    // costs as much as 1 µm at one point (ℓ from the curve itself, so that a run of the guides
+    // read back from its state file, whose length is the fit's, fits the same).
+    const double natural = g.hair.naturalCurvature()[0];
     double element = 0;
     for (std::size_t i = 1; i < g.curve.size(); ++i)
     {
       element += (g.curve[i] - g.curve[i - 1]).norm() / g.elements;
     }
-    if (Status s = fitSuperHelix(g.curve, g.normal, g.elements, fit, 1e-12 * element * element,
-                                 g.hair.naturalCurvature()[0]);
-        !s)
+    double turned = 0;
+    for (int e = 0; e < g.elements; ++e)
     {
-      return Status::Error(name + ": " + s.message());
+      turned = std::max(turned, std::abs(fit.q(3 * e) - natural) * element);
+    }
+    if (turned > Pi)
+    {
+      if (Status s =
+              fitSuperHelix(g.curve, g.normal, g.elements, fit, 1e-12 * element * element, natural);
+          !s)
+      {
+        return Status::Error(name + ": " + s.message());
+      }
     }
     frame = fit.rootFrame;
     length = fit.length;
