@@ -3,6 +3,7 @@
 // exact to round-off; the stability is the Hessian's, checked against the closed form for
 // one element; shapes that cannot be held are reported with the closest stable one.
 #include "AnalyticBodies.h"
+#include "SlopeTable.h"
 #include "collision/CollisionTable.h"
 #include "contact/BodyContacts.h"
 #include "strands/GuideStrand.h"
@@ -291,14 +292,8 @@ TEST(GroomSagFree, StaticFrictionHoldsAStrandAcrossASlope)
   // are anchored (the body contacts' tangential springs): a shape the balance holds is then
   // held against sliding too, and the same shape is stable.
   const double R = 1.0, alpha = Pi / 4;
-  const hairtest::CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
   CollisionTable part;
-  TableSpec spec;
-  spec.projection = Projection::Cylindrical;
-  spec.azimuthSamples = spec.secondSamples = 400;
-  spec.heightMin = -0.5;
-  spec.heightMax = 0.5;
-  ASSERT_TRUE(part.build(spec, body).ok());
+  ASSERT_TRUE(hairtest::slopeTable(R, part).ok());
   const std::vector<PosedPart> parts = {PosedPart::still(part)};
   const int n = 10;
   StrandSpec s = StrandSpec::uniform(0.12, n, HairParameters::preset(HairType::Smooth));

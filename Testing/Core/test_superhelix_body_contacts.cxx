@@ -5,6 +5,7 @@
 // sliding over a fixed drum.
 #include "AnalyticBodies.h"
 #include "ProjectiveScenes.h"
+#include "SlopeTable.h"
 #include "collision/CollisionTable.h"
 #include "contact/BodyContacts.h"
 #include "geometry/TriangleMesh.h"
@@ -565,14 +566,8 @@ double slide(double mu, double tanAlpha, double seconds, double muStatic = 0, do
              bool atRest = false)
 {
   const double R = 1.0, alpha = std::atan(tanAlpha);
-  const CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
   CollisionTable part;
-  TableSpec spec;
-  spec.projection = Projection::Cylindrical;
-  spec.azimuthSamples = spec.secondSamples = 400; // 1.6 cm cells on the 1 m radius
-  spec.heightMin = -0.5;
-  spec.heightMax = 0.5;
-  EXPECT_TRUE(part.build(spec, body).ok());
+  EXPECT_TRUE(hairtest::slopeTable(R, part).ok());
   BodyContactParameters prm;
   prm.friction = mu;
   prm.staticFriction = muStatic;
@@ -682,14 +677,8 @@ TEST(SuperHelixBodyContacts, SlidingStrandHasCoulombsAcceleration)
   // (δ/L)² ≤ 0.3 %.
   const double R = 1000.0, L = 0.1, V = 0.05, T = 5.0;
   const int N = 10;
-  const CappedCylinder body(Eigen::Vector3d::Zero(), R, 0.5);
   CollisionTable part;
-  TableSpec spec;
-  spec.projection = Projection::Cylindrical;
-  spec.azimuthSamples = spec.secondSamples = 400;
-  spec.heightMin = -0.5;
-  spec.heightMax = 0.5;
-  ASSERT_TRUE(part.build(spec, body).ok());
+  ASSERT_TRUE(hairtest::slopeTable(R, part).ok());
   HairParameters hp = HairParameters::roundStraight();
   hp.youngModulus = 1e10;
   hp.airFriction = 0;
