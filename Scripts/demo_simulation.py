@@ -67,8 +67,8 @@ for model, run in runs.items():
         path = os.path.join(out, "frames", f"{tag}_{i:03d}.png")
         SaveScreenshot(path, view, ImageResolution=[500, 600])
         pictures[model].append((t, path))
-# t = 0 shows the strands as Hair Strands grows them (straight, through the shoulders);
-# the montage starts once they have fallen onto the body.
+# t = 0 shows the strands as Hair Strands grows them (standing out of the scalp); the montage
+# starts once they have fallen onto the body.
 rows = list(pictures.items())
 chosen = [k for k, (t, _) in enumerate(rows[0][1]) if t > 0 and abs(t - round(t)) < 1e-9]
 fig, axes = plt.subplots(len(rows), len(chosen), figsize=(3 * len(chosen), 4.0 * len(rows)))
@@ -87,9 +87,10 @@ fig.savefig(os.path.join(out, "hair_shake.png"), dpi=100)
 # --- Energy of both runs, from the state files (as an h5py user reads them) --------------
 fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
 print(f"{'model':<12}{'frames':>7}{'run (s)':>9}{'E_kin max (J)':>15}{'residual (J)':>14}"
-      f"{'|residual|/work':>17}{'nodes inside (max)':>20}{'deepest (mm)':>14}")
-print("(nodes inside and deepest over the frames after t = 0: at t = 0 the guides are straight "
-      "as grown, through the shoulders)")
+      f"{'|residual|/work':>17}{'nodes inside (max)':>20}{'deepest (mm)':>14}{'at t = 0':>10}")
+print("(nodes inside and deepest over the frames after t = 0; 'at t = 0': nodes inside as grown, "
+      "roots included: the roots lie on the mesh, which the head table passes up to 4.5 mm "
+      "outside)")
 for ax, (model, run) in zip(axes, runs.items()):
     with h5py.File(run["state"], "r", swmr=True) as f:
         T = f["time"].shape[0]
@@ -111,7 +112,8 @@ for ax, (model, run) in zip(axes, runs.items()):
     depth = np.array([table.GetColumnByName("max_depth").GetValue(i) for i in range(table.GetNumberOfRows())])
     work = np.abs(e["external_work"][-1]) + np.abs(e["dissipated"][-1])
     print(f"{model:<12}{T:>7}{run['seconds']:>9.1f}{e['kinetic'].max():>15.3e}{e['residual'][-1]:>14.3e}"
-          f"{abs(e['residual'][-1]) / max(work, 1e-300):>17.3f}{int(inside[1:].max()):>20}{1000 * depth[1:].max():>14.1f}")
+          f"{abs(e['residual'][-1]) / max(work, 1e-300):>17.3f}{int(inside[1:].max()):>20}{1000 * depth[1:].max():>14.1f}"
+          f"{int(inside[0]):>10}")
 fig.tight_layout()
 fig.savefig(os.path.join(out, "energy.png"), dpi=100)
 
