@@ -327,10 +327,7 @@ int main(int argc, char** argv)
       // The groom: the shaken frame at 0.5 s, or the frame at 3 s at rest.
       Run shake;
       const bool settled = groomKind == "settled";
-      if (settled)
-      {
-        o.superHelix.contacts.staticFriction = staticFriction;
-      }
+      o.superHelix.contacts.staticFriction = settled ? staticFriction : 0.0;
       if (Status s = settled ? simulate(grown, still, o, 91, 90, Curves(grown.size()), shake)
                              : simulate(grown, shaken, o, 16, 15, Curves(grown.size()), shake);
           !s)

@@ -29,6 +29,7 @@ bool stickOrSlide(BodyAnchor& anchor, const PosedPart& body, const Eigen::Vector
 {
   if (!anchor.set)
   {
+    // A new touch: anchored where it touched, sticking (whatever the last touch left).
     anchor = BodyAnchor();
     anchor.set = true;
     anchor.rest = body.toRest(x);
@@ -268,7 +269,7 @@ void BodyContacts::respond(const std::vector<StrandSample>& samples, double line
                                       bodies[k], r, depth, anchor);
       if (anchor && !touches)
       {
-        *anchor = BodyAnchor(); // left the part: a new touch anchors anew, sticking
+        anchor->set = false; // left the part: a new touch anchors anew, sticking (stickOrSlide)
       }
       if (touches)
       {

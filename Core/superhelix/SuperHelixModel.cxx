@@ -13,11 +13,6 @@
 namespace hair
 {
 
-namespace
-{
-constexpr double Pi = 3.14159265358979323846;
-} // namespace
-
 const char* toString(HairHairSolver solver)
 {
   switch (solver)
@@ -279,7 +274,7 @@ Status SuperHelixModel::buildStrand(int k, const GuideStrand& g, bool uniformAir
     {
       turned = std::max(turned, std::abs(fit.q(3 * e) - natural) * element);
     }
-    if (turned > Pi)
+    if (turned > M_PI)
     {
       if (Status s =
               fitSuperHelix(g.curve, g.normal, g.elements, fit, 1e-12 * element * element, natural);
