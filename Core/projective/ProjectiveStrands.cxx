@@ -360,12 +360,16 @@ Status ProjectiveStrands::initialize(std::vector<ProjectiveStrand> strands, hair
     for (std::size_t j = 1; j <= k; ++j)
     {
       double sum = 0;
-      for (std::size_t i = 1; i <= j; ++i)
+      for (std::size_t l = 1; l <= k; ++l)
       {
-        const double r = static_cast<double>(j - i + 1) * s.d;
-        sum += r * r / s.inertia[i - 1];
+        const double ml = l < k ? s.mass : 0.5 * s.mass;
+        for (std::size_t i = 1; i <= std::min(j, l); ++i)
+        {
+          sum += ml * static_cast<double>(j - i + 1) * static_cast<double>(l - i + 1) * s.d * s.d /
+                 s.inertia[i - 1];
+        }
       }
-      s.mobility[j] = (j < k ? s.mass : 0.5 * s.mass) * sum;
+      s.mobility[j] = sum;
     }
     s.P.resize(k + 1);
     s.R.resize(k + 1);

@@ -157,8 +157,9 @@ private:
     std::vector<double> inertia;      ///< I_i = ρ ℓ_i³ / 3, ℓ_i the length carried by joint i
     std::vector<double> damping;      ///< γ_i = α I_i + β κ
     std::vector<double> gain, damper; ///< h / I_i and 1 / (1 + h γ_i / I_i)
-    /// Per node: m_n Σ_{i≤j} |P_j − P_{i−1}|²/I_i for the straight strand, a bound of how
-    /// much more a force at node j moves it than it would move a free node of mass m_n.
+    /// Per node j: Σ_l m_l Σ_{i≤min(j,l)} |P_j − P_{i−1}||P_l − P_{i−1}|/I_i for the straight
+    /// strand, a bound (Gershgorin's) of how much more the constraint moves node j, every
+    /// node of the strand held at once, than it would move a free node.
     std::vector<double> mobility;
     std::vector<Eigen::Vector3d> P;
     std::vector<Eigen::Matrix3d> R;     ///< R[0] root frame, R[i] frame of segment i
