@@ -18,11 +18,12 @@
 //   release  the sag-free groom shaken briefly (±0.2 rad at 1 Hz for one cycle from 0.2 s,
 //            faded over 0.25 s) and released, `release` s in all: the largest distance from
 //            the groom at the last frame and after the shake.
-// `static`: the Super-Helix's static friction coefficient μ_s for the runs after the groom is
-// made (0: off, the default; the shake that makes the groom never has it, so that the groom
-// is the same). One row per strand; `curves` (optional) receives the groom and each run's last
-// frame for the pictures (Scripts/groom_pictures.py). Bad input: a message on stderr and exit
-// status 2; a failed computation: exit status 1.
+// `static`: the static friction coefficient μ_s for the runs after the groom is made (0: off,
+// the default; the shake that makes the groom never has it, so that the groom is the same);
+// as Hair Simulation sets it, the projective model's friction is on with it (kinetic 0.3). One row
+// per strand; `curves` (optional) receives the groom and each run's last frame for the pictures
+// (Scripts/groom_pictures.py). Bad input: a message on stderr and exit status 2; a failed
+// computation: exit status 1.
 #include "ProjectiveScenes.h"
 #include "collision/PosedPart.h"
 #include "simulation/Simulation.h"
@@ -126,6 +127,17 @@ struct Run
 
 /// A run of `frames` frames from `guides` in `scene`; the distance from `groom` measured on
 /// the frames from `from` on.
+/// Static friction μ_s for both models as Hair Simulation sets it: the Super-Helix's contact
+/// law; the projective model's friction on with it (kinetic and anisotropy the defaults).
+void setStaticFriction(SimulationOptions& o, double muStatic)
+{
+  o.superHelix.contacts.staticFriction = muStatic;
+  const BodyContactParameters defaults;
+  o.projective.staticFriction = muStatic;
+  o.projective.friction = muStatic > 0 ? defaults.friction : 0.0;
+  o.projective.anisotropy = defaults.anisotropy;
+}
+
 Status simulate(const std::vector<GuideStrand>& guides, const Scene& scene,
                 const SimulationOptions& o, int frames, int from, const Curves& groom, Run& run)
 {
@@ -327,7 +339,7 @@ int main(int argc, char** argv)
       // The groom: the shaken frame at 0.5 s, or the frame at 3 s at rest.
       Run shake;
       const bool settled = groomKind == "settled";
-      o.superHelix.contacts.staticFriction = settled ? staticFriction : 0.0;
+      setStaticFriction(o, settled ? staticFriction : 0.0);
       if (Status s = settled ? simulate(grown, still, o, 91, 90, Curves(grown.size()), shake)
                              : simulate(grown, shaken, o, 16, 15, Curves(grown.size()), shake);
           !s)
@@ -335,7 +347,7 @@ int main(int argc, char** argv)
         return fail(modelName + ", " + presetName + ", groom: " + s.message(), 1);
       }
       const Curves groomCurves = shake.end;
-      o.superHelix.contacts.staticFriction = staticFriction;
+      setStaticFriction(o, staticFriction);
       std::vector<Eigen::Vector3d> normals;
       for (const GuideStrand& g : grown)
       {

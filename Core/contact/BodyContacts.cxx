@@ -80,19 +80,8 @@ bool stickOrSlide(BodyAnchor& anchor, const PosedPart& body, const Eigen::Vector
 
 } // namespace
 
-Status BodyContactParameters::validate() const
+Status validateFriction(double friction, double staticFriction, double anisotropy)
 {
-  if (!std::isfinite(stiffness) || !(stiffness > 0))
-  {
-    return bad("stiffness", stiffness,
-               "give a positive finite value in N/m² (default 10: a resting strand sinks "
-               "by ρS g / k ≈ 5–10 µm)");
-  }
-  if (!std::isfinite(dampingRatio) || dampingRatio < 0)
-  {
-    return bad("damping ratio", dampingRatio,
-               "give a finite value >= 0 (a fraction of the critical damping; default 1)");
-  }
   if (!std::isfinite(friction) || friction < 0)
   {
     return bad("friction coefficient", friction,
@@ -111,6 +100,26 @@ Status BodyContactParameters::validate() const
     return bad("friction anisotropy", anisotropy,
                "give a value in [0, 1): the friction against the scales is μ (1 + a), with "
                "them μ (1 − a) (default 0.2)");
+  }
+  return Status::Ok();
+}
+
+Status BodyContactParameters::validate() const
+{
+  if (!std::isfinite(stiffness) || !(stiffness > 0))
+  {
+    return bad("stiffness", stiffness,
+               "give a positive finite value in N/m² (default 10: a resting strand sinks "
+               "by ρS g / k ≈ 5–10 µm)");
+  }
+  if (!std::isfinite(dampingRatio) || dampingRatio < 0)
+  {
+    return bad("damping ratio", dampingRatio,
+               "give a finite value >= 0 (a fraction of the critical damping; default 1)");
+  }
+  if (Status s = validateFriction(friction, staticFriction, anisotropy); !s)
+  {
+    return s;
   }
   if (!std::isfinite(thickness) || thickness < 0)
   {

@@ -58,6 +58,10 @@ struct BodyContactParameters
   Status validate() const;
 };
 
+/// Checks a Coulomb friction law with the body (either model's): μ ≥ 0, μ_s 0 (none) or
+/// ≥ μ, anisotropy in [0, 1); the message names the coefficient and what to give.
+Status validateFriction(double friction, double staticFriction, double anisotropy);
+
 /// Where a sample stuck to a part (static friction): its anchor in the part's rest
 /// coordinates, or none.
 struct BodyAnchor

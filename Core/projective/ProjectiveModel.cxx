@@ -149,6 +149,10 @@ void ProjectiveModel::describe(StateHeader& header) const
     first += Strands.numberOfSegments(s) + 1;
     header.offsets.push_back(first);
   }
+  auto& at = header.attributes;
+  at["friction_coefficient"] = Options.friction;
+  at["friction_anisotropy"] = Options.anisotropy;
+  at["static_friction_coefficient"] = Options.staticFriction;
 }
 
 void ProjectiveModel::writeFrame(StateFrame& f) const
@@ -192,6 +196,10 @@ EnergyBudget ProjectiveModel::energy() const
   b.add(energy::Gravitational, EnergyKind::State, e.gravitational);
   b.add("damping_dissipated", EnergyKind::Dissipation, e.dissipated);
   b.add("contact_dissipated", EnergyKind::Dissipation, e.contactDissipated);
+  if (Options.friction > 0 || Options.staticFriction > 0)
+  {
+    b.add("body_friction_dissipated", EnergyKind::Dissipation, e.frictionDissipated);
+  }
   b.add("body_work", EnergyKind::Work, e.bodyWork);
   b.add("wind_work", EnergyKind::Work, e.windWork);
   b.add("contact_work", EnergyKind::Work, e.contactWork);

@@ -4,6 +4,7 @@
 #include "projective/ProjectiveStrands.h"
 
 #include "common/Parallel.h"
+#include "contact/BodyContacts.h"
 
 #include <algorithm>
 #include <chrono>
@@ -39,6 +40,10 @@ Status ProjectiveOptions::validate() const
   {
     return Status::Error("options: the number of threads must be ≥ 1");
   }
+  if (Status s = validateFriction(friction, staticFriction, anisotropy); !s)
+  {
+    return Status::Error("options: " + s.message());
+  }
   return Status::Ok();
 }
 
@@ -46,6 +51,8 @@ void ProjectiveStepStats::merge(const ProjectiveStepStats& other)
 {
   contacts += other.contacts;
   projections += other.projections;
+  stuck += other.stuck;
+  sliding += other.sliding;
   maxDepthBefore = std::max(maxDepthBefore, other.maxDepthBefore);
   if (other.maxDepthAfter > maxDepthAfter)
   {
@@ -133,7 +140,7 @@ void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStat
 
     // The reaction constraint at node i (the end of segment i).
     const PartContact& ct = s.contact[i];
-    if (ct.part >= 0 && ct.depth > -Options.contactMargin)
+    if (ct.part >= 0 && ct.depth > -contactBand())
     {
       ++stats.contacts;
       anyContact = true;
@@ -152,6 +159,10 @@ void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStat
       const Eigen::Vector3d fout =
           reactionConstraint(fin, s.v[i] - vs, s.P[i], target, ct.normal, opt, &damper);
       const Eigen::Vector3d g = mn * (fout - fin);
+      if (!s.load.empty())
+      {
+        s.load[i] = std::max(0.0, g.dot(ct.normal)); // the normal force, for friction
+      }
       sc += g;
       mc += (s.P[i] - p0).cross(g);
       sd += mn * damper;
@@ -254,7 +265,15 @@ double ProjectiveStrands::unprojectedEnergy(const Strand& s, const Eigen::Vector
 void ProjectiveStrands::stepStrand(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const
 {
   s.nodeV = s.P; // the nodes at t0, for their velocities over the step
+  if (frictionOn())
+  {
+    std::fill(s.load.begin(), s.load.end(), 0.0);
+  }
   forces(s, f, stats);
+  if (frictionOn())
+  {
+    friction(s, f, stats);
+  }
   place(s, f, stats);
   for (std::size_t i = 0; i < s.P.size(); ++i)
   {
@@ -375,6 +394,11 @@ Status ProjectiveStrands::initialize(std::vector<ProjectiveStrand> strands, hair
     s.R.resize(k + 1);
     s.contact.assign(k + 1, PartContact());
     s.nodeV.assign(k + 1, Eigen::Vector3d::Zero());
+    if (frictionOn())
+    {
+      s.anchors.assign(k + 1, Strand::Anchor());
+      s.load.assign(k + 1, 0.0);
+    }
     s.v.resize(k + 1);
   }
   Time = 0;
@@ -418,6 +442,7 @@ Status ProjectiveStrands::setState(int s, const std::vector<Eigen::Vector2d>& an
   }
   st.q = angles;
   st.qd = rates;
+  std::fill(st.anchors.begin(), st.anchors.end(), Strand::Anchor()); // touches anew
   const Eigen::Isometry3d root = World.rootMotion.pose(Time);
   forward(st, root * st.rootRest, root.linear() * st.frameRest);
   std::vector<PosedPart> parts;
@@ -429,7 +454,7 @@ Status ProjectiveStrands::setState(int s, const std::vector<Eigen::Vector2d>& an
   for (Strand& other : Strands)
   {
     other.dissipated = other.bodyWork = other.windWork = other.contactWork = other.projectionWork =
-        other.constraintDissipated = other.inelasticDissipated = 0;
+        other.constraintDissipated = other.inelasticDissipated = other.frictionDissipated = 0;
   }
   InitialEnergy = 0;
   InitialEnergy = energy().total();
@@ -459,7 +484,7 @@ Status ProjectiveStrands::setRestAngles(int s, const std::vector<Eigen::Vector2d
   for (Strand& other : Strands)
   {
     other.dissipated = other.bodyWork = other.windWork = other.contactWork = other.projectionWork =
-        0;
+        other.constraintDissipated = other.inelasticDissipated = other.frictionDissipated = 0;
   }
   InitialEnergy = 0;
   InitialEnergy = energy().total();
@@ -601,9 +626,11 @@ ProjectiveEnergy ProjectiveStrands::energy() const
     e.projectionWork += s.projectionWork;
     e.contactDissipated += s.constraintDissipated + s.inelasticDissipated;
     e.inelasticDissipated += s.inelasticDissipated;
+    e.frictionDissipated += s.frictionDissipated;
   }
   e.residual = e.total() - InitialEnergy -
-               (e.bodyWork + e.windWork + e.contactWork - e.dissipated - e.contactDissipated);
+               (e.bodyWork + e.windWork + e.contactWork - e.dissipated - e.contactDissipated -
+                e.frictionDissipated);
   return e;
 }
 

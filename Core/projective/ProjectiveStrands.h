@@ -35,6 +35,16 @@ struct ProjectiveOptions
   bool projectOutside = true;
   /// The inertial force −m a of the moving roots (a = acceleration of each root).
   bool inertialForce = true;
+  /// Coulomb friction with the body parts at the nodes the reaction constraint holds
+  /// (docs/projective-strands.md, "Friction"): μ, the kinetic coefficient (0 with μ_s 0: no
+  /// friction), anisotropic as the Super-Helix's, μ (1 + a cos ψ), ψ between the fibre's
+  /// tangent and the sliding velocity; μ_s, the static coefficient (0: μ, plain Coulomb;
+  /// otherwise ≥ μ). A node sticks to where it touched (in the part's coordinates) while the
+  /// force that holds it there stays within μ_s λ, λ the constraint's normal force, and
+  /// slides beyond it with μ λ until it stops.
+  double friction = 0;
+  double staticFriction = 0;
+  double anisotropy = 0.2;
   int threads = 1; ///< strands are stepped on this many threads
   Status validate() const;
 };
@@ -43,7 +53,7 @@ struct ProjectiveOptions
 ///   E = kinetic + gravitational + elastic,
 /// the budget
 ///   E(t) − E(0) = bodyWork + windWork + contactWork − dissipated − contactDissipated
-///                 + residual
+///                 − frictionDissipated + residual
 /// closes by definition of `residual`, which is the explicit integrator's error (first
 /// order in h: see docs/projective-strands.md, "Energy report").
 struct ProjectiveEnergy
@@ -63,7 +73,10 @@ struct ProjectiveEnergy
   /// projections' inelastic rule takes from the rates (≥ 0)
   double contactDissipated = 0;
   double inelasticDissipated = 0; ///< the part of contactDissipated by the inelastic rule
-  double residual = 0;            ///< E − E(0) − (works − dissipated)
+  /// What friction with the body dissipated (sliding, ≥ 0 but for the small pull back of a
+  /// stuck node to its anchor); the rest of friction's work is in contactWork
+  double frictionDissipated = 0;
+  double residual = 0; ///< E − E(0) − (works − dissipated)
   /// (h/2) Σ q̇·Q_cons: with it, E + shadow is the quantity the symplectic Euler scheme
   /// keeps (its modified energy, to O(h²)); without driving it never increases.
   double shadow = 0;
@@ -75,6 +88,8 @@ struct ProjectiveStepStats
 {
   long contacts = 0;         ///< nodes within the contact margin of a part (constraint on)
   long projections = 0;      ///< nodes turned back outside during the step
+  long stuck = 0;            ///< contact nodes held by friction (static) over the step
+  long sliding = 0;          ///< contact nodes sliding (kinetic friction) over the step
   double maxDepthBefore = 0; ///< deepest node inside a part before the projection, m
   double maxDepthAfter = 0;  ///< deepest node inside a part at the end of the step, m
   Eigen::Vector3d deepestPoint = Eigen::Vector3d::Zero(); ///< where maxDepthAfter was found
@@ -165,10 +180,22 @@ private:
     std::vector<Eigen::Matrix3d> R;     ///< R[0] root frame, R[i] frame of segment i
     std::vector<PartContact> contact;   ///< per node, from the end of the previous step
     std::vector<Eigen::Vector3d> nodeV; ///< (P_i(t + h) − P_i(t)) / h of the last step
+    /// Friction, per node: where it stuck (part −1: nowhere; `placed` false: it is taken
+    /// where the node is at the next step's start) and the constraint's normal force λ over
+    /// the step [N].
+    struct Anchor
+    {
+      int part = -1;
+      bool placed = false;
+      bool sliding = false;
+      Eigen::Vector3d rest = Eigen::Vector3d::Zero();
+    };
+    std::vector<Anchor> anchors;
+    std::vector<double> load;
     // Scratch (per strand, so threads never share).
     std::vector<Eigen::Vector3d> v;
     double dissipated = 0, bodyWork = 0, windWork = 0, contactWork = 0, projectionWork = 0;
-    double constraintDissipated = 0, inelasticDissipated = 0;
+    double constraintDissipated = 0, inelasticDissipated = 0, frictionDissipated = 0;
   };
   /// Everything a step needs that does not depend on the strand.
   struct StepFrame
@@ -187,6 +214,14 @@ private:
   void forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats,
               std::vector<Eigen::Vector2d>* moments = nullptr) const;
   void place(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
+  /// Coulomb friction at the contact nodes (Friction.cxx): after forces(), before place().
+  void friction(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
+  bool frictionOn() const { return Options.friction > 0 || Options.staticFriction > 0; }
+  /// How far outside a part a node is held by the reaction constraint: the contact margin,
+  /// where the constraint puts it. With friction, twice that: a node resting on a part sits
+  /// at the margin, and a contact that came and went with its last micrometre would take
+  /// its normal force, and the friction that holds it, with it every other step.
+  double contactBand() const { return (frictionOn() ? 2 : 1) * Options.contactMargin; }
   bool deepest(const std::vector<PosedPart>& parts, const Eigen::Vector3d& p, PartContact& c) const;
   double gravitational(const Strand& s) const;
   double strandEnergy(const Strand& s) const;

@@ -2,7 +2,8 @@
 // scale: 1000 guide strands × 40 segments on the bundled body's scalp, wind from the front,
 // colliding with the head (spherical table) and trunk (cylindrical table), on one thread
 // and two. The same step with no body parts gives the share spent in collision:
-//   share = 1 − time(no parts) / time(head + trunk).
+//   share = 1 − time(no parts) / time(head + trunk);
+// and with friction on (μ_s = 0.4, μ = 0.3, a = 0.2) what friction costs.
 // Run: bench_projective --benchmark_min_time=2 --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true      (docs/benchmarks.md)
 #include "ProjectiveScenes.h"
@@ -41,6 +42,7 @@ void stepBench(benchmark::State& state)
 {
   const int threads = static_cast<int>(state.range(0));
   const bool collide = state.range(1) != 0;
+  const bool friction = state.range(2) != 0;
   const Setup& s = setup();
   if (s.strands.empty())
   {
@@ -55,6 +57,11 @@ void stepBench(benchmark::State& state)
   }
   ProjectiveOptions o;
   o.threads = threads;
+  if (friction)
+  {
+    o.staticFriction = 0.4;
+    o.friction = 0.3;
+  }
   ProjectiveStrands sim;
   if (!sim.initialize(s.strands, scene, o).ok())
   {
@@ -67,7 +74,7 @@ void stepBench(benchmark::State& state)
   // its number of iterations.
   sim.advance(0.6);
   const ProjectiveStrands start = sim;
-  long contacts = 0, projections = 0, steps = 0;
+  long contacts = 0, projections = 0, stuck = 0, sliding = 0, steps = 0;
   for (auto _ : state)
   {
     if (++steps % 200 == 0)
@@ -80,21 +87,27 @@ void stepBench(benchmark::State& state)
     sim.step(&st);
     contacts += st.contacts;
     projections += st.projections;
+    stuck += st.stuck;
+    sliding += st.sliding;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["steps/s"] = benchmark::Counter(n, benchmark::Counter::kIsRate);
   state.counters["contacts"] = contacts / n;
   state.counters["projections"] = projections / n;
+  state.counters["stuck"] = stuck / n;
+  state.counters["sliding"] = sliding / n;
   state.counters["segments"] = 40.0 * s.strands.size();
 }
 } // namespace
 
 BENCHMARK(stepBench)
-    ->ArgNames({"threads", "collision"})
-    ->Args({1, 1})
-    ->Args({2, 1})
-    ->Args({1, 0})
-    ->Args({2, 0})
+    ->ArgNames({"threads", "collision", "friction"})
+    ->Args({1, 1, 0})
+    ->Args({2, 1, 0})
+    ->Args({1, 0, 0})
+    ->Args({2, 0, 0})
+    ->Args({1, 1, 1})
+    ->Args({2, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -72,6 +72,21 @@ for model in ("Super-Helix", "Projective"):
               and f["energy/kinetic"].shape[0] >= 16 and f["strands/offsets"].shape[0] == 13)
     check(ok, f"{model}: h5py reads positions and energies by the documented names")
 
+# The projective model's friction: on with a static coefficient, recorded in the state file,
+# and what it dissipates in the energy table.
+state = os.path.join(tmp, "projective-friction.h5")
+sticky = HairSimulation(Input=strands, Colliders=[head], Model="Projective", Duration=0.5,  # noqa: F821
+                        FrameRate=30, BodyMotion="Shake", MotionAmplitude=0.3,
+                        StaticFrictionCoefficient=0.4, StateFileName=state)
+sticky.UpdatePipeline(0.5)
+columns = table_columns(fetch(sticky, 1))
+check("body_friction_dissipated" in columns and columns["body_friction_dissipated"][-1] >= 0,
+      f"projective with friction: body_friction_dissipated in the energy table ({sorted(columns)})")
+with h5py.File(state, "r", swmr=True) as f:
+    recorded = (f.attrs["static_friction_coefficient"], f.attrs["friction_coefficient"])
+check(abs(recorded[0] - 0.4) < 1e-12 and abs(recorded[1] - 0.3) < 1e-12,
+      f"projective with friction: its coefficients in the state file ({recorded})")
+
 # Bad input: a surface instead of strands; strands without Hair Strands' arrays.
 bad = HairSimulation(Input=strands)  # noqa: F821
 errors = Errors(bad)
