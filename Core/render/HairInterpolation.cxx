@@ -718,7 +718,9 @@ Status HairInterpolation::fill(const std::vector<GuideSample>& samples,
                 point +=
                     a0 * (s0.row[0] + o.x() * s0.row[1] + o.y() * s0.row[2] + o.z() * s0.row[3]) +
                     a1 * (s1.row[0] + o.x() * s1.row[1] + o.y() * s1.row[2] + o.z() * s1.row[3]);
-                const float* v0 = &sampleScalars[k * S];
+                // data(): with no scalars (S = 0) the vector is empty and [] would bind a
+                // reference to nothing (UBSan); data() + 0 is defined.
+                const float* v0 = sampleScalars.data() + k * S;
                 for (int q = 0; q < S; ++q)
                   value[q] += a0 * v0[q] + a1 * v0[S + q];
               };
