@@ -400,14 +400,6 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.frameInterval = 1.0 / this->FrameRate;
   o.threads = this->NumberOfThreads;
   o.ranks = in.Ranks;
-  // The projective model's friction is Coulomb's with static friction; it is on only when
-  // Static Friction Coefficient is (it has no regularized law to fall back on).
-  if (this->StaticFrictionCoefficient > 0)
-  {
-    o.projective.friction = this->FrictionCoefficient;
-    o.projective.staticFriction = this->StaticFrictionCoefficient;
-    o.projective.anisotropy = this->FrictionAnisotropy;
-  }
   hair::SuperHelixOptions& sh = o.superHelix;
   sh.quadratureTolerance = this->QuadratureTolerance;
   // IntegratorType's values are hair::Integrator's.
@@ -421,6 +413,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   sh.contacts.staticFriction = this->StaticFrictionCoefficient;
   sh.contacts.thickness = this->ContactThickness;
   sh.contacts.slipVelocity = this->SlipVelocity;
+  o.shareBodyFriction();
   sh.hairHairEnabled = this->HairHairContacts != HAIR_HAIR_OFF;
   if (sh.hairHairEnabled)
   {

@@ -125,19 +125,15 @@ struct Run
   double seconds = 0;
 };
 
-/// A run of `frames` frames from `guides` in `scene`; the distance from `groom` measured on
-/// the frames from `from` on.
-/// Static friction μ_s for both models as Hair Simulation sets it: the Super-Helix's contact
-/// law; the projective model's friction on with it (kinetic and anisotropy the defaults).
+/// Static friction μ_s for both models, as Hair Simulation sets it.
 void setStaticFriction(SimulationOptions& o, double muStatic)
 {
   o.superHelix.contacts.staticFriction = muStatic;
-  const BodyContactParameters defaults;
-  o.projective.staticFriction = muStatic;
-  o.projective.friction = muStatic > 0 ? defaults.friction : 0.0;
-  o.projective.anisotropy = defaults.anisotropy;
+  o.shareBodyFriction();
 }
 
+/// A run of `frames` frames from `guides` in `scene`; the distance from `groom` measured on
+/// the frames from `from` on.
 Status simulate(const std::vector<GuideStrand>& guides, const Scene& scene,
                 const SimulationOptions& o, int frames, int from, const Curves& groom, Run& run)
 {

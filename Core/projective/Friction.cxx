@@ -63,7 +63,6 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
     /// Rows t1 (the fibre's direction in the plane) and t2.
     Eigen::Matrix<double, 2, 3> basis = Eigen::Matrix<double, 2, 3>::Zero();
     Eigen::Vector2d free = Eigen::Vector2d::Zero(), target = Eigen::Vector2d::Zero();
-    Eigen::Vector2d force = Eigen::Vector2d::Zero();
     double lambda = 0;
     bool sliding = false; ///< was sliding at the step's start: kinetic bound until it stops
   };
@@ -116,30 +115,11 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
     return;
   }
 
-  // The nodes' velocities with the rates the step has given (before friction), as forces()
-  // chains them; relative to their parts below.
-  std::vector<double> gain(k);
-  for (std::size_t j = 0; j < k; ++j)
-  {
-    gain[j] = s.gain[j] * s.damper[j];
-  }
-  auto axes = [&](std::size_t j, Eigen::Vector3d& wt, Eigen::Vector3d& wp)
-  {
-    wt = -s.R[j].col(1);
-    wp = -s.R[j - 1].col(0);
-  };
-  {
-    Eigen::Vector3d omega = f.rootRates.angularVelocity;
-    s.v[0] = f.rootRates.velocityAt(s.P[0]);
-    for (std::size_t j = 1; j <= k; ++j)
-    {
-      Eigen::Vector3d wt, wp;
-      axes(j, wt, wp);
-      omega += wt * s.qd[j - 1].x() + wp * s.qd[j - 1].y();
-      s.v[j] = s.v[j - 1] + omega.cross(s.P[j] - s.P[j - 1]);
-    }
-  }
-  // J in the nodes' tangent bases (2 rows per node, 2 columns per joint) and W = J G Jᵀ.
+  // The nodes' velocities with the rates the step has given (before friction); relative to
+  // their parts below.
+  nodeVelocities(s, f.rootRates);
+  // J in the nodes' tangent bases (2 rows per node, 2 columns per joint) and W = J G Jᵀ,
+  // joint j's axes θ: −e2 of segment j, φ: −e1 of its parent.
   const int rows = 2 * static_cast<int>(nodes.size()), cols = 2 * static_cast<int>(k);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, cols);
   Eigen::VectorXd free(rows), want(rows), g(cols);
@@ -152,16 +132,14 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
     want.segment<2>(2 * m) = n.target;
     for (std::size_t j = 1; j <= n.i; ++j)
     {
-      Eigen::Vector3d wt, wp;
-      axes(j, wt, wp);
       const Eigen::Vector3d r = s.P[n.i] - s.P[j - 1];
-      J.block<2, 1>(2 * m, 2 * (j - 1)) = n.basis * wt.cross(r);
-      J.block<2, 1>(2 * m, 2 * (j - 1) + 1) = n.basis * wp.cross(r);
+      J.block<2, 1>(2 * m, 2 * (j - 1)) = n.basis * (-s.R[j].col(1)).cross(r);
+      J.block<2, 1>(2 * m, 2 * (j - 1) + 1) = n.basis * (-s.R[j - 1].col(0)).cross(r);
     }
   }
   for (std::size_t j = 0; j < k; ++j)
   {
-    g(2 * j) = g(2 * j + 1) = gain[j];
+    g(2 * j) = g(2 * j + 1) = s.gain[j] * s.damper[j];
   }
   const Eigen::MatrixXd W = J * g.asDiagonal() * J.transpose();
 
@@ -231,10 +209,8 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
       const Node& n = nodes[m];
       const Eigen::Vector2d f = force.segment<2>(2 * m);
       const Eigen::Matrix2d wmm = W.block<2, 2>(2 * m, 2 * m);
-      // Its velocity without its own friction, and the force that alone would bring it to
-      // its target.
+      // Its velocity without its own friction.
       const Eigen::Vector2d bare = velocity.segment<2>(2 * m) - wmm * f;
-      const Eigen::Vector2d stop = pseudoSolve(wmm, n.target - bare);
       if (!slides[m])
       {
         if (f.norm() > muStick * n.lambda * (1 + 1e-12))
@@ -243,8 +219,11 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
           force.segment<2>(2 * m) = kineticAgainst(n, bare);
           changed = true;
         }
+        continue;
       }
-      else if (stop.norm() <= kineticAgainst(n, -stop).norm())
+      // The force that alone would bring it to its target.
+      const Eigen::Vector2d stop = pseudoSolve(wmm, n.target - bare);
+      if (stop.norm() <= kineticAgainst(n, -stop).norm())
       {
         slides[m] = 0; // kinetic friction stops it: it sticks
         changed = true;
@@ -286,9 +265,8 @@ void ProjectiveStrands::friction(Strand& s, const StepFrame& f, ProjectiveStepSt
   double dissipated = 0;
   for (int m = 0; m < count; ++m)
   {
-    Node& n = nodes[m];
-    n.force = force.segment<2>(2 * m);
-    dissipated -= h * n.force.dot(after.segment<2>(2 * m));
+    const Node& n = nodes[m];
+    dissipated -= h * force.segment<2>(2 * m).dot(after.segment<2>(2 * m));
     Strand::Anchor& an = s.anchors[n.i];
     if (slides[m])
     {

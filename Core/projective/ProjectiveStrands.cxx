@@ -82,6 +82,19 @@ bool ProjectiveStrands::deepest(const std::vector<PosedPart>& parts, const Eigen
   return deepestPart(parts, p, 2 * Options.contactMargin + 1e-6, c);
 }
 
+void ProjectiveStrands::nodeVelocities(Strand& s, const RigidRates& roots) const
+{
+  // Root to tip. The angle θ_i turns segment i about −e2 of the segment itself, φ_i about
+  // −e1 of its parent (from A = Rx(−φ) Ry(π/2 − θ)).
+  Eigen::Vector3d omega = roots.angularVelocity;
+  s.v[0] = roots.velocityAt(s.P[0]);
+  for (std::size_t i = 1; i < s.P.size(); ++i)
+  {
+    omega -= s.R[i].col(1) * s.qd[i - 1].x() + s.R[i - 1].col(0) * s.qd[i - 1].y();
+    s.v[i] = s.v[i - 1] + omega.cross(s.P[i] - s.P[i - 1]);
+  }
+}
+
 void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStats& stats,
                                std::vector<Eigen::Vector2d>* moments) const
 {
@@ -89,15 +102,7 @@ void ProjectiveStrands::forces(Strand& s, const StepFrame& f, ProjectiveStepStat
   const double m = s.mass, d = s.d, h = f.h;
   const Eigen::Vector3d& gravity = World.gravity;
 
-  // Root-to-tip: angular and linear velocities (world). The angle θ_i turns segment i about
-  // −e2 of the segment itself, φ_i about −e1 of its parent (from A = Rx(−φ) Ry(π/2 − θ)).
-  Eigen::Vector3d omega = f.rootRates.angularVelocity;
-  s.v[0] = f.rootRates.velocityAt(s.P[0]);
-  for (std::size_t i = 1; i <= k; ++i)
-  {
-    omega -= s.R[i].col(1) * s.qd[i - 1].x() + s.R[i - 1].col(0) * s.qd[i - 1].y();
-    s.v[i] = s.v[i - 1] + omega.cross(s.P[i] - s.P[i - 1]);
-  }
+  nodeVelocities(s, f.rootRates);
 
   // The root's acceleration: the inertial force −m a in the roots' frame.
   const Eigen::Vector3d accel =

@@ -208,6 +208,9 @@ private:
   };
 
   void forward(Strand& s, const Eigen::Vector3d& root, const Eigen::Matrix3d& frame) const;
+  /// The nodes' velocities (world, into the strand's scratch `v`) from the roots' velocity
+  /// field and the strand's rates, in its current frames.
+  void nodeVelocities(Strand& s, const RigidRates& roots) const;
   void stepStrand(Strand& s, const StepFrame& f, ProjectiveStepStats& stats) const;
   /// The step's forces and the update of every joint; with `moments`, only the forces: Q of
   /// each joint is written there and the strand's angles and rates are left as they are.

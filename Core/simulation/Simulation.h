@@ -43,6 +43,18 @@ struct SimulationOptions
   SagFreeOptions sagFree;       ///< for guides whose rest shape is sag-free, either model
 
   RunSettings run() const { return {timeStep, frameInterval, threads, {}, ranks}; }
+  /// The projective model's friction from the body contacts' law (superHelix.contacts), the
+  /// one set of friction coefficients a user gives: the projective model has Coulomb's law
+  /// with static friction only (no regularized law), so it is on, with μ, μ_s and the
+  /// anisotropy, when μ_s > 0, and off otherwise.
+  void shareBodyFriction()
+  {
+    const BodyContactParameters& c = superHelix.contacts;
+    const bool on = c.staticFriction > 0;
+    projective.friction = on ? c.friction : 0.0;
+    projective.staticFriction = on ? c.staticFriction : 0.0;
+    projective.anisotropy = c.anisotropy;
+  }
 };
 
 /// The model `options` names, made with its options (simulation/ModelRegistry.cxx).
