@@ -92,6 +92,8 @@ StateHeader StateHeader::piece(const std::vector<std::int64_t>& ids) const
   p.attributes = attributes;
   p.pointData = pointData;
   p.singlePrecisionPoints = singlePrecisionPoints;
+  p.continuationWidth = continuationWidth;
+  p.continuationRunValues = continuationRunValues;
   p.strandIds = ids;
   p.offsets.assign(1, 0);
   for (std::int64_t k : ids)

@@ -64,6 +64,11 @@ struct StateHeader
   bool singlePrecisionPoints = false;
   /// The groom and rest shape (optional).
   StateGroom groom;
+  /// The room the file keeps for the continuation of its last frames (/resume: what a
+  /// resumed run restores, docs/state-file.md): numbers per strand (its count first) and
+  /// the model's own numbers. 0: the file keeps none (it cannot be resumed).
+  int continuationWidth = 0;
+  int continuationRunValues = 0;
   /// For a piece of a run (the strands one MPI rank holds, piece()): the run's number of
   /// each strand described here, increasing. Empty: every strand of the run, 0 … S − 1.
   std::vector<std::int64_t> strandIds;
@@ -98,6 +103,16 @@ struct StateFrame
   /// Energy terms by name (J). The names kinetic, elastic, gravitational, dissipated and
   /// external_work are always written (0 when absent); any other term is written too.
   std::map<std::string, double> energy;
+};
+
+/// What a run's model needs to go on from a frame (StrandModel::saveContinuation), kept in
+/// the file with the frame: per strand described by the header (a rank: its piece), its
+/// numbers, and the model's own, as many as the header's continuationRunValues.
+struct StateContinuation
+{
+  std::int64_t frame = -1; ///< the frame it belongs to
+  std::vector<std::vector<double>> strands;
+  std::vector<double> run;
 };
 
 inline constexpr int RootFrameValues = 12;
@@ -234,10 +249,22 @@ public:
   Status create(const std::string& path, const StateHeader& header,
                 const std::vector<std::string>& extraEnergyTerms = {},
                 Existing existing = Existing::Refuse, const FileSharing& sharing = {});
+  /// Opens the state file at `path`, which a run of `header` wrote (checked by the caller:
+  /// Simulation's resume), to go on after its first `keep` frames: the frames after them
+  /// are dropped, the next append() writes frame `keep`. Shared: collective, and the file
+  /// must have room for sharing.frames frames.
+  Status reopen(const std::string& path, const StateHeader& header,
+                const std::vector<std::string>& extraEnergyTerms, std::int64_t keep,
+                const FileSharing& sharing = {});
   /// Appends the next frame. Shared: collective, `frame` is this rank's piece (its strands'
   /// points, q, roots and per-point arrays; its time and energy the same on every rank), and
   /// a frame one rank refuses (NaN, wrong sizes) or fails to write is refused on every rank.
-  Status append(const StateFrame& frame);
+  /// `continuation` (when the header keeps room for it): the frame's, written before the
+  /// frame is whole, into the slot that does not hold the previous frame's, so that the last
+  /// whole frame's continuation is always whole in the file. A continuation too large for
+  /// the room is not kept (the slot says none), and `continuationKept` says so.
+  Status append(const StateFrame& frame, const StateContinuation* continuation = nullptr,
+                bool* continuationKept = nullptr);
   /// Shared files: collective, this rank's piece of whole frame `index`, read from the file
   /// being written (a run too long for memory reads released frames back).
   Status readPiece(std::int64_t index, StateFrame& frame) const;
@@ -276,6 +303,11 @@ public:
   /// energy. What a rank reads of a file's frame under MPI.
   Status readPiece(std::int64_t index, const std::vector<std::int64_t>& strands,
                    StateFrame& frame) const;
+  /// The continuation of the newest whole frame that has one (StateContinuation::frame
+  /// says which; the last whole frame unless a continuation did not fit its room), of the
+  /// strands `strands` (increasing; null: every strand). Refused, with why, when the file
+  /// keeps none.
+  Status readContinuation(const std::vector<std::int64_t>* strands, StateContinuation& out) const;
   /// The file's format_version (1: one writer; 2: written by several MPI ranks together).
   int version() const;
   /// The strands of piece `piece` of `pieces` (increasing): when the file has the guides'

@@ -47,6 +47,8 @@ struct Contents
   std::map<std::string, std::vector<double>> Energies;
   /// The file's size and the memory any one read may take (bytes).
   double FileBytes = 0, MemoryBytes = 0;
+  /// Why the file's /resume cannot be read (empty: it can, or there is none).
+  std::string ContinuationProblem;
 };
 
 /// The datasets every state file has.
@@ -632,6 +634,39 @@ Status readEnergies(Contents& c, hid_t f)
   return Status::Ok();
 }
 
+/// The continuation's slots (/resume), when there are any: the header's continuationWidth
+/// and continuationRunValues from their shapes. A /resume that does not fit the file leaves
+/// the file readable (its frames are whole) but not resumable: the problem is kept for
+/// readContinuation's message.
+void findContinuation(Contents& c, hid_t f)
+{
+  StateHeader& h = c.Header;
+  if (H5Lexists(f, sf::Resume, H5P_DEFAULT) <= 0)
+  {
+    return;
+  }
+  Handle frame, strands, run;
+  DatasetInfo fi, si, ri;
+  Status s = openArray(f, sf::ResumeFrame, 1, true, frame, fi);
+  s = s ? openArray(f, sf::ResumeStrands, 3, false, strands, si) : s;
+  s = s ? openArray(f, sf::ResumeRun, 2, false, run, ri) : s;
+  if (s &&
+      (fi.dims[0] != 2 || si.dims[0] != 2 || ri.dims[0] != 2 || si.dims[1] != h.numberOfStrands() ||
+       si.dims[2] < 1 || si.dims[2] > (1u << 24) || ri.dims[1] > 1024))
+  {
+    s = damaged(std::string(sf::Resume) + "'s datasets are not shaped [2], [2, " +
+                std::to_string(h.numberOfStrands()) + ", W] and [2, K].");
+  }
+  s = s ? checkBytes(c, sf::ResumeStrands, si, 2.0 * double(si.dims[1]) * double(si.dims[2])) : s;
+  if (!s)
+  {
+    c.ContinuationProblem = s.message();
+    return;
+  }
+  h.continuationWidth = int(si.dims[2]);
+  h.continuationRunValues = int(ri.dims[1]);
+}
+
 /// The steps of open(), in order; the first that fails refuses the file. Every dataset's
 /// type and shape are checked against the others' and the file's size before it is read.
 Status readFile(const std::string& path, Contents& c)
@@ -687,7 +722,12 @@ Status readFile(const std::string& path, Contents& c)
   {
     s = findRootFrames(c, f, c.Header);
   }
-  return s ? readEnergies(c, f) : s;
+  s = s ? readEnergies(c, f) : s;
+  if (s)
+  {
+    findContinuation(c, f);
+  }
+  return s;
 }
 } // namespace
 
@@ -939,6 +979,127 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
                          "opened (open it again).");
   }
   return finishFrame(*P, piece, P->Path, index, out, frame);
+}
+
+Status StateFileReader::readContinuation(const std::vector<std::int64_t>* strands,
+                                         StateContinuation& out) const
+{
+  const StateHeader& h = P->Header;
+  const std::string file = "the state file '" + P->Path + "'";
+  if (P->Path.empty())
+  {
+    return Status::Error("the state file is not open.");
+  }
+  if (h.continuationWidth < 1)
+  {
+    return Status::Error(
+        file + " keeps no continuation of its frames, so it cannot be resumed: " +
+        (P->ContinuationProblem.empty()
+             ? "it was written by a HairDynamics that did not keep one (format version " +
+                   std::to_string(P->Version) + "), or without a state file's room for it."
+             : P->ContinuationProblem));
+  }
+  std::vector<std::int64_t> all;
+  if (!strands)
+  {
+    all.resize(h.numberOfStrands());
+    for (std::size_t k = 0; k < all.size(); ++k)
+    {
+      all[k] = std::int64_t(k);
+    }
+    strands = &all;
+  }
+  Runs rows;
+  for (std::size_t i = 0; i < strands->size();)
+  {
+    const std::vector<std::int64_t>& ids = *strands;
+    if (ids[i] < 0 || std::size_t(ids[i]) >= h.numberOfStrands() || (i > 0 && ids[i] <= ids[i - 1]))
+    {
+      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
+                           std::to_string(h.numberOfStrands()) + " strands.");
+    }
+    std::size_t j = i + 1;
+    while (j < ids.size() && ids[j] == ids[j - 1] + 1)
+    {
+      ++j;
+    }
+    rows.emplace_back(hsize_t(ids[i]), hsize_t(ids[j - 1] + 1 - ids[i]));
+    i = j;
+  }
+  const std::size_t width = std::size_t(h.continuationWidth);
+  std::int64_t slots[2] = {-1, -1};
+  std::vector<double> values(strands->size() * width);
+  StateContinuation c;
+  c.run.resize(std::size_t(h.continuationRunValues));
+  int slot = -1;
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    Handle f;
+    double bytes = 0;
+    ok = checkPath(P->Path, bytes) && openFile(P->Path, f);
+    Handle frame(ok ? H5Dopen2(f.get(), sf::ResumeFrame, H5P_DEFAULT) : -1);
+    ok = ok && frame.valid() && readWhole(frame.get(), H5T_NATIVE_INT64, slots);
+    // The newest whole frame's (a slot names a frame before its numbers are whole only after
+    // they are written; one naming a frame past the whole ones was being written).
+    for (int i = 0; ok && i < 2; ++i)
+    {
+      if (slots[i] >= 0 && slots[i] < P->Frames && (slot < 0 || slots[i] > slots[slot]))
+      {
+        slot = i;
+      }
+    }
+    if (ok && slot >= 0)
+    {
+      Handle d(H5Dopen2(f.get(), sf::ResumeStrands, H5P_DEFAULT));
+      RowSelection sel;
+      ok = d.valid() && sel.build(d.get(), rows) && sel.moveToFrame(hsize_t(slot)) &&
+           sel.values == values.size() &&
+           (values.empty() || H5Dread(d.get(), H5T_NATIVE_DOUBLE, sel.memory.get(), sel.file.get(),
+                                      H5P_DEFAULT, values.data()) >= 0);
+      Handle r(H5Dopen2(f.get(), sf::ResumeRun, H5P_DEFAULT));
+      ok = ok && r.valid();
+      if (ok && !c.run.empty())
+      {
+        Handle space(H5Dget_space(r.get()));
+        const hsize_t start[2] = {hsize_t(slot), 0}, count[2] = {1, c.run.size()};
+        const hsize_t n = c.run.size();
+        Handle memory(H5Screate_simple(1, &n, nullptr));
+        ok =
+            H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0 &&
+            H5Dread(r.get(), H5T_NATIVE_DOUBLE, memory.get(), space.get(), H5P_DEFAULT,
+                    c.run.data()) >= 0;
+      }
+    }
+  }
+  H5E_END_TRY;
+  if (!ok)
+  {
+    return Status::Error(file + ": its continuation (" + sf::Resume +
+                         ") cannot be read: the file is damaged.");
+  }
+  if (slot < 0)
+  {
+    return Status::Error(file + " has no whole frame with its continuation (" + sf::Resume +
+                         " names frames " + std::to_string(slots[0]) + " and " +
+                         std::to_string(slots[1]) + " of " + std::to_string(P->Frames) +
+                         "): it cannot be resumed.");
+  }
+  c.frame = slots[slot];
+  c.strands.resize(strands->size());
+  for (std::size_t k = 0; k < strands->size(); ++k)
+  {
+    const double* row = values.data() + k * width;
+    if (!(row[0] >= 0 && row[0] <= double(width - 1)))
+    {
+      return Status::Error(file + ": the continuation of strand " + std::to_string((*strands)[k]) +
+                           " is damaged (its count, " + std::to_string(row[0]) +
+                           ", does not fit its " + std::to_string(width - 1) + " places).");
+    }
+    c.strands[k].assign(row + 1, row + 1 + std::size_t(row[0]));
+  }
+  out = std::move(c);
+  return Status::Ok();
 }
 
 } // namespace hair

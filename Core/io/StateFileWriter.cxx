@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hair
 {
@@ -278,6 +279,17 @@ struct StateFileWriter::Impl
   /// Per dataset (by its Handle's id), this rank's selection.
   std::map<hid_t, RowSelection> Selections;
   int Lock = -1; ///< rank 0: the file, locked shared while the run writes it
+  // The continuation's slots (/resume), when the header keeps room for them: this rank's
+  // strand rows of /resume/strands, and a buffer of them (reused from frame to frame).
+  Handle ResumeFrame, ResumeStrands, ResumeRun;
+  RowSelection ResumeRows;
+  std::vector<double> ResumeBuffer;
+  /// Writes `c`, frame t's continuation, into slot t mod 2 (collective when shared); `kept`
+  /// false when it does not fit the room (the slot is left as it was).
+  Status writeContinuation(hsize_t t, const StateContinuation& c, bool& kept,
+                           const std::string& where);
+  /// Opens or creates /resume's datasets and this rank's rows of them.
+  bool openContinuation(hid_t f, bool create);
 
   ~Impl()
   {
@@ -287,8 +299,147 @@ struct StateFileWriter::Impl
     }
   }
   bool shared() const { return Sharing.shared(); }
-  Status appendShared(const StateFrame& frame, const std::string& where);
+  Status appendShared(const StateFrame& frame, const std::string& where,
+                      const StateContinuation* continuation, bool& kept);
 };
+
+namespace
+{
+/// Writes `count` values into row `row` of a 2-D dataset (or one value at index `row` of a
+/// 1-D one), independently of the other ranks.
+bool writeRow(hid_t dataset, hsize_t row, hid_t type, const void* values, hsize_t count)
+{
+  Handle file(H5Dget_space(dataset));
+  const int rank = H5Sget_simple_extent_ndims(file.get());
+  const hsize_t start[2] = {row, 0}, size[2] = {1, count};
+  Handle memory(H5Screate_simple(1, &count, nullptr));
+  return rank >= 1 && rank <= 2 &&
+         H5Sselect_hyperslab(file.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) >= 0 &&
+         H5Dwrite(dataset, type, memory.get(), file.get(), H5P_DEFAULT, values) >= 0;
+}
+} // namespace
+
+bool StateFileWriter::Impl::openContinuation(hid_t f, bool create)
+{
+  const hsize_t strands = Header.numberOfStrands();
+  const hsize_t width = hsize_t(Header.continuationWidth);
+  const hsize_t run = hsize_t(std::max(0, Header.continuationRunValues));
+  if (create)
+  {
+    Handle group(H5Gcreate2(f, sf::Resume, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+    ResumeFrame = createFixed(f, sf::ResumeFrame, 2, {}, false, H5T_NATIVE_INT64);
+    ResumeStrands = createFixed(f, sf::ResumeStrands, 2, {strands, width}, false);
+    ResumeRun = createFixed(f, sf::ResumeRun, 2, {run}, true);
+    const std::int64_t none[2] = {-1, -1};
+    const bool writes = !shared() || Sharing.ranks.rank() == 0;
+    if (!group.valid() || !ResumeFrame.valid() ||
+        (writes &&
+         H5Dwrite(ResumeFrame.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, none) < 0))
+    {
+      return false;
+    }
+  }
+  else
+  {
+    ResumeFrame = Handle(H5Dopen2(f, sf::ResumeFrame, H5P_DEFAULT));
+    ResumeStrands = Handle(H5Dopen2(f, sf::ResumeStrands, H5P_DEFAULT));
+    ResumeRun = Handle(H5Dopen2(f, sf::ResumeRun, H5P_DEFAULT));
+  }
+  if (!ResumeFrame.valid() || !ResumeStrands.valid() || !ResumeRun.valid() ||
+      extent(ResumeStrands.get()) != std::vector<hsize_t>{2, strands, width} ||
+      extent(ResumeRun.get()) != std::vector<hsize_t>{2, run})
+  {
+    return false;
+  }
+  Runs rows;
+  if (shared())
+  {
+    rows = pieceOf(Header, Sharing.strands).strands;
+  }
+  else
+  {
+    rows.emplace_back(0, strands);
+  }
+  return ResumeRows.build(ResumeStrands.get(), rows);
+}
+
+Status StateFileWriter::Impl::writeContinuation(hsize_t t, const StateContinuation& c, bool& kept,
+                                                const std::string& where)
+{
+  const Ranks& ranks = Sharing.ranks;
+  const std::size_t width = std::size_t(Header.continuationWidth);
+  const std::size_t rows = std::size_t(ResumeRows.values / std::max<std::size_t>(width, 1));
+  bool fits = c.strands.size() == rows &&
+              c.run.size() == std::size_t(std::max(0, Header.continuationRunValues));
+  for (std::size_t k = 0; fits && k < rows; ++k)
+  {
+    fits = c.strands[k].size() + 1 <= width;
+  }
+  kept = !(shared() ? ranks.any(!fits) : !fits);
+  if (!kept)
+  {
+    return Status::Ok(); // the slot keeps the continuation of two frames before
+  }
+  ResumeBuffer.assign(rows * width, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t k = 0; k < rows; ++k)
+  {
+    double* row = ResumeBuffer.data() + k * width;
+    row[0] = double(c.strands[k].size());
+    std::copy(c.strands[k].begin(), c.strands[k].end(), row + 1);
+  }
+  const hsize_t slot = t % 2;
+  const bool writer = !shared() || ranks.rank() == 0;
+  const std::int64_t none = -1, frame = std::int64_t(t);
+  const hid_t f = File.get();
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    // The slot says "none" before its numbers change, and names the frame once they are
+    // all in the file: a run killed between the two leaves the other slot, the last whole
+    // frame's, to resume from.
+    ok = !writer || writeRow(ResumeFrame.get(), slot, H5T_NATIVE_INT64, &none, 1);
+    ok = ok && (shared() || H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0);
+  }
+  H5E_END_TRY;
+  const std::string failed =
+      where + "writing its continuation failed (is the disk full?); the frames before it are kept.";
+  if (Status st = shared() ? ranks.agree(ok ? Status::Ok() : Status::Error(failed))
+                           : (ok ? Status::Ok() : Status::Error(failed));
+      !st)
+  {
+    return st;
+  }
+  H5E_BEGIN_TRY
+  {
+    Handle xfer(H5Pcreate(H5P_DATASET_XFER));
+    if (shared())
+    {
+      H5Pset_dxpl_mpio(xfer.get(), H5FD_MPIO_COLLECTIVE);
+    }
+    ok = ResumeRows.moveToFrame(slot) &&
+         H5Dwrite(ResumeStrands.get(), H5T_NATIVE_DOUBLE, ResumeRows.memory.get(),
+                  ResumeRows.file.get(), xfer.get(),
+                  ResumeBuffer.empty() ? nullptr : ResumeBuffer.data()) >= 0;
+    if (writer && !c.run.empty())
+    {
+      ok = ok && writeRow(ResumeRun.get(), slot, H5T_NATIVE_DOUBLE, c.run.data(), c.run.size());
+    }
+    ok = ok && (shared() || H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0);
+  }
+  H5E_END_TRY;
+  if (Status st = shared() ? ranks.agree(ok ? Status::Ok() : Status::Error(failed))
+                           : (ok ? Status::Ok() : Status::Error(failed));
+      !st)
+  {
+    return st;
+  }
+  H5E_BEGIN_TRY
+  {
+    ok = !writer || writeRow(ResumeFrame.get(), slot, H5T_NATIVE_INT64, &frame, 1);
+  }
+  H5E_END_TRY;
+  return ok ? Status::Ok() : Status::Error(failed);
+}
 
 StateFileWriter::StateFileWriter() : P(std::make_unique<Impl>()) {}
 StateFileWriter::~StateFileWriter()
@@ -429,7 +580,15 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
       {
         return s;
       }
-      return createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy);
+      if (Status s = createEnergy(energy.get(), extraEnergyTerms, kind, P->Energy); !s)
+      {
+        return s;
+      }
+      if (header.continuationWidth > 0 && !P->openContinuation(f, true))
+      {
+        return Status::Error(std::string("cannot create ") + sf::Resume + ".");
+      }
+      return Status::Ok();
     }();
   }
   H5E_END_TRY;
@@ -504,6 +663,199 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
 
 namespace
 {
+/// Opens an existing state file for writing: shared by `ranks` (MPI-IO, as createSharedFile),
+/// or by one writer, clearing the mark an unclosed single-writer file keeps in its superblock
+/// (as HDF5's h5clear does: the run that wrote it was killed). Invalid if it cannot.
+Handle openForWriting(const std::string& path, const Ranks& ranks, bool shared)
+{
+  Handle file;
+  H5E_BEGIN_TRY
+  {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+    if (shared)
+    {
+      H5Pset_fapl_mpio(fapl.get(), ranks.comm(), MPI_INFO_NULL);
+      H5Pset_alignment(fapl.get(), 0, 8);
+      H5Pset_all_coll_metadata_ops(fapl.get(), 1);
+      H5Pset_coll_metadata_write(fapl.get(), 1);
+    }
+    else
+    {
+      H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
+      hbool_t clear = 1;
+      H5Pset(fapl.get(), "clear_status_flags", &clear);
+    }
+    file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get()));
+  }
+  H5E_END_TRY;
+  return file;
+}
+} // namespace
+
+Status StateFileWriter::reopen(const std::string& path, const StateHeader& header,
+                               const std::vector<std::string>& extraEnergyTerms, std::int64_t keep,
+                               const FileSharing& sharing)
+{
+  close();
+  const Ranks& ranks = sharing.ranks;
+  const bool shared = sharing.shared();
+  auto fail = [&](const std::string& what)
+  {
+    P = std::make_unique<Impl>();
+    return Status::Error("the state file '" + path + "': " + what);
+  };
+  Status there = header.validate();
+  if (there && keep < 1)
+  {
+    there = Status::Error("a run is resumed after at least one frame.");
+  }
+  if (there && ranks.rank() == 0 && lockedByAnotherRun(path))
+  {
+    there = Status::Error("is locked: another run is writing it; it is resumed once that run "
+                          "has stopped.");
+  }
+  if (Status s = ranks.agree(there); !s)
+  {
+    return fail(s.message());
+  }
+  P->File = openForWriting(path, ranks, shared);
+  if (Status s = ranks.agree(P->File.valid() ? Status::Ok() : Status::Error(""));
+      !s || !P->File.valid())
+  {
+    return fail("cannot be opened for writing: check that it is writable and that no other "
+                "process has it open.");
+  }
+  P->Header = header;
+  P->Path = path;
+  P->Sharing = sharing;
+  const hid_t f = P->File.get();
+  bool ok = true;
+  H5E_BEGIN_TRY
+  {
+    auto open = [&](Handle& d, const std::string& name)
+    {
+      d = Handle(H5Dopen2(f, name.c_str(), H5P_DEFAULT));
+      ok = ok && d.valid();
+    };
+    open(P->Time, sf::Time);
+    StateFrame none;
+    forEachArray(header, none, false,
+                 [&](const FrameArray& a)
+                 {
+                   Dataset& d = P->Arrays[a.name];
+                   d.single = a.field && a.field->singlePrecision(header);
+                   open(d.handle, a.name);
+                 });
+    std::vector<std::string> terms(std::begin(RequiredEnergyTerms), std::end(RequiredEnergyTerms));
+    terms.insert(terms.end(), extraEnergyTerms.begin(), extraEnergyTerms.end());
+    for (const std::string& t : terms)
+    {
+      open(P->Energy[t], sf::inGroup(sf::Energy, t));
+    }
+    ok = ok && (header.continuationWidth < 1 || P->openContinuation(f, false));
+  }
+  H5E_END_TRY;
+  if (Status s = ranks.agree(ok ? Status::Ok()
+                                : Status::Error("its datasets are not those of this run's "
+                                                "frames: it cannot be continued."));
+      !s)
+  {
+    return fail(s.message());
+  }
+  if (!shared)
+  {
+    // The frames after the kept ones (a frame being written when the run stopped) dropped.
+    H5E_BEGIN_TRY
+    {
+      auto cut = [&](const Handle& d)
+      {
+        std::vector<hsize_t> dims = extent(d.get());
+        ok = ok && !dims.empty() && dims[0] >= hsize_t(keep);
+        if (ok)
+        {
+          dims[0] = hsize_t(keep);
+          ok = H5Dset_extent(d.get(), dims.data()) >= 0;
+        }
+      };
+      cut(P->Time);
+      for (auto& [name, d] : P->Arrays)
+      {
+        cut(d.handle);
+      }
+      for (auto& [name, d] : P->Energy)
+      {
+        cut(d);
+      }
+      ok = ok && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0 && H5Fstart_swmr_write(f) >= 0;
+    }
+    H5E_END_TRY;
+    if (!ok)
+    {
+      return fail("its frames after frame " + std::to_string(keep - 1) +
+                  " cannot be dropped, or single-writer/multiple-reader mode cannot start.");
+    }
+    P->Frames = hsize_t(keep);
+    return Status::Ok();
+  }
+
+  // Shared: the room the file was made with, then the count of whole frames set back to
+  // `keep` (the frames after it are written over), and this rank's selections.
+  const std::vector<hsize_t> room = extent(P->Time.get());
+  Status roomy = Status::Ok();
+  if (room.empty() || std::int64_t(room[0]) < sharing.frames)
+  {
+    roomy = Status::Error("has room for " + std::to_string(room.empty() ? 0 : room[0]) +
+                          " frames (the run it was started for), and this run would have " +
+                          std::to_string(sharing.frames) +
+                          ": resume with a Duration that ends within the room, or start a new "
+                          "run.");
+  }
+  if (Status s = ranks.agree(roomy); !s)
+  {
+    return fail(s.message());
+  }
+  H5E_BEGIN_TRY
+  {
+    P->WholeFrames = Handle(H5Dopen2(f, sf::WholeFrames, H5P_DEFAULT));
+    ok = P->WholeFrames.valid();
+    if (ok && ranks.rank() == 0)
+    {
+      const std::int64_t whole = keep;
+      ok = H5Dwrite(P->WholeFrames.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                    &whole) >= 0;
+    }
+    P->PieceHeader = header.piece(sharing.strands);
+    const Piece piece = pieceOf(header, sharing.strands);
+    StateFrame none;
+    forEachArray(header, none, false,
+                 [&](const FrameArray& a)
+                 {
+                   const Handle& d = P->Arrays.at(a.name).handle;
+                   ok = ok && P->Selections[d.get()].build(d.get(), a.perPoint ? piece.points
+                                                                               : piece.strands);
+                 });
+  }
+  H5E_END_TRY;
+  if (Status s = ranks.agree(ok ? Status::Ok()
+                                : Status::Error("its count of whole frames cannot be set back."));
+      !s)
+  {
+    return fail(s.message());
+  }
+  P->Frames = hsize_t(keep);
+  if (ranks.rank() == 0)
+  {
+    P->Lock = ::open(path.c_str(), O_RDONLY);
+    if (P->Lock >= 0)
+    {
+      ::flock(P->Lock, LOCK_SH | LOCK_NB);
+    }
+  }
+  return Status::Ok();
+}
+
+namespace
+{
 /// The checks of append() on a frame of the strands `h` describes (a rank's piece of a
 /// shared file); `where` names the file and the frame.
 Status checkFrame(const StateHeader& h, const std::map<std::string, Handle>& energy,
@@ -565,17 +917,29 @@ bool writeScalar(hid_t dataset, hsize_t t, hid_t type, const void* value)
 }
 } // namespace
 
-Status StateFileWriter::append(const StateFrame& frame)
+Status StateFileWriter::append(const StateFrame& frame, const StateContinuation* continuation,
+                               bool* continuationKept)
 {
+  bool kept = false;
+  if (continuationKept)
+  {
+    *continuationKept = false;
+  }
   if (!P->File.valid())
   {
     return Status::Error("the state file is not open: create it first.");
   }
   const std::string where = "the state file '" + P->Path + "', frame " + std::to_string(P->Frames) +
                             " (t = " + std::to_string(frame.time) + " s): ";
+  const bool continues = continuation && P->ResumeFrame.valid();
   if (P->shared())
   {
-    return P->appendShared(frame, where);
+    Status s = P->appendShared(frame, where, continues ? continuation : nullptr, kept);
+    if (s && continuationKept)
+    {
+      *continuationKept = kept;
+    }
+    return s;
   }
   const StateHeader& h = P->Header;
   if (Status s = checkFrame(h, P->Energy, frame, where); !s)
@@ -583,6 +947,13 @@ Status StateFileWriter::append(const StateFrame& frame)
     return s;
   }
   const hsize_t t = P->Frames;
+  if (continues)
+  {
+    if (Status s = P->writeContinuation(t, *continuation, kept, where); !s)
+    {
+      return s;
+    }
+  }
   bool ok = true;
   H5E_BEGIN_TRY
   {
@@ -615,10 +986,15 @@ Status StateFileWriter::append(const StateFrame& frame)
                                  "kept.");
   }
   ++P->Frames;
+  if (continuationKept)
+  {
+    *continuationKept = kept;
+  }
   return Status::Ok();
 }
 
-Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::string& where)
+Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::string& where,
+                                           const StateContinuation* continuation, bool& kept)
 {
   const Ranks& ranks = Sharing.ranks;
   const StateHeader& h = PieceHeader;
@@ -635,6 +1011,13 @@ Status StateFileWriter::Impl::appendShared(const StateFrame& frame, const std::s
   }
   const hsize_t t = Frames;
   const bool writer = ranks.rank() == 0;
+  if (continuation)
+  {
+    if (Status s = writeContinuation(t, *continuation, kept, where); !s)
+    {
+      return s;
+    }
+  }
   bool ok = true;
   H5E_BEGIN_TRY
   {
@@ -755,6 +1138,10 @@ Status StateFileWriter::close()
   P->Selections.clear();
   P->Time.reset();
   P->WholeFrames.reset();
+  P->ResumeRows = RowSelection();
+  P->ResumeFrame.reset();
+  P->ResumeStrands.reset();
+  P->ResumeRun.reset();
   // A shared file is closed collectively; after MPI_Finalize (a writer outliving it) HDF5
   // has closed it already, at MPI_Finalize. Its structure has been on disk since create().
   int finalized = 0;

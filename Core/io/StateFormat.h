@@ -56,6 +56,14 @@ inline constexpr char CurveOffsets[] = "/groom/curve_offsets";       ///< int64 
 inline constexpr char CurvePoints[] = "/groom/curve_points";         ///< [Pc, 3]
 inline constexpr char RestCoordinates[] = "/groom/rest_coordinates"; ///< [S, C]
 
+/// Optional (StateHeader::continuationWidth > 0): the continuation of the last frames, in
+/// two slots written in turn, so that the last whole frame's is whole while the next one's
+/// is written (docs/state-file.md, "Resuming a run").
+inline constexpr char Resume[] = "/resume";
+inline constexpr char ResumeFrame[] = "/resume/frame"; ///< int64 [2]: each slot's frame, −1 none
+inline constexpr char ResumeStrands[] = "/resume/strands"; ///< [2, S, W]: count, then numbers
+inline constexpr char ResumeRun[] = "/resume/run";         ///< [2, K]: the model's own numbers
+
 /// The path of the dataset `name` in `group`: inGroup(Frames, "twist") is "/frames/twist".
 inline std::string inGroup(const char* group, const std::string& name)
 {

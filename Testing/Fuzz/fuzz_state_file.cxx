@@ -2,7 +2,8 @@
 // written to a temporary file (HDF5 opens files by name; a real file also takes the reader's
 // own path checks and its SWMR open, which the core driver would skip), opened with
 // StateFileReader, every frame (up to 8) read, and each drawn as Hair State Reader draws it
-// (drawGuides at 4 points per element). Refusals are the expected outcome of most inputs;
+// (drawGuides at 4 points per element), then its continuation read as a resumed run reads
+// it. Refusals are the expected outcome of most inputs;
 // a crash, a sanitizer report or a hang is a finding.
 //
 // Built two ways (Testing/Fuzz/CMakeLists.txt): with libFuzzer (clang, HAIR_BUILD_FUZZ) for
@@ -64,6 +65,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       hair::GuideDrawing drawing;
       (void)hair::drawGuides(reader.header(), frame, 4, 1, drawing);
     }
+    // What a resumed run reads of it.
+    hair::StateContinuation continuation;
+    (void)reader.readContinuation(nullptr, continuation);
   }
   std::remove(path.c_str());
   return 0;
