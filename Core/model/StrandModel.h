@@ -88,6 +88,22 @@ public:
   /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
   /// empty for a model that reports none.
   virtual std::map<std::string, double> stepStatistics() const { return {}; }
+
+  /// Why this run cannot be continued from a saved continuation (it keeps state the
+  /// continuation does not hold), or empty when it can. After initialize().
+  virtual std::string continuationRefusal() const = 0;
+  /// The most numbers saveContinuation gives strand k over the whole run (the room the
+  /// state file keeps for it). After initialize().
+  virtual std::size_t continuationCapacity(std::size_t k) const = 0;
+  /// What its steps from now on (at a frame, after advanceTo) depend on beyond the guides,
+  /// scene and settings it was initialized with, as numbers (StateContinuation: per strand,
+  /// and the model's own, its clock and step controller, the same on every rank; `out` is
+  /// refilled, its frame left as it is). Restored into a model initialized as this one was,
+  /// the run goes on as if it had never stopped, bit for bit (Simulation's resume).
+  virtual void saveContinuation(StateContinuation& out) const = 0;
+  /// Puts back what saveContinuation gave, into a model initialized with the same guides,
+  /// scene and settings; refuses numbers that do not fit its strands.
+  virtual Status restoreContinuation(const StateContinuation& in) = 0;
 };
 
 } // namespace hair

@@ -208,3 +208,45 @@ EnergyBudget ProjectiveModel::energy() const
 }
 
 } // namespace hair
+
+namespace hair
+{
+
+std::size_t ProjectiveModel::continuationCapacity(std::size_t k) const
+{
+  return Strands.continuationSize(int(k));
+}
+
+void ProjectiveModel::saveContinuation(StateContinuation& out) const
+{
+  out.strands.resize(std::size_t(Strands.numberOfStrands()));
+  for (int s = 0; s < Strands.numberOfStrands(); ++s)
+  {
+    out.strands[s].clear();
+    Strands.saveContinuation(s, out.strands[s]);
+  }
+  out.run = {Strands.time(), double(Strands.steps())};
+}
+
+Status ProjectiveModel::restoreContinuation(const StateContinuation& in)
+{
+  if (in.strands.size() != std::size_t(Strands.numberOfStrands()) || in.run.size() != 2 ||
+      !std::isfinite(in.run[0]) || !(in.run[1] >= 0))
+  {
+    return Status::Error("the continuation is of " + std::to_string(in.strands.size()) +
+                         " projective strands and " + std::to_string(in.run.size()) +
+                         " model values; this model has " +
+                         std::to_string(Strands.numberOfStrands()) + " strands and 2.");
+  }
+  for (int s = 0; s < Strands.numberOfStrands(); ++s)
+  {
+    if (Status st = Strands.restoreContinuation(s, in.strands[s]); !st)
+    {
+      return st;
+    }
+  }
+  Strands.restoreClock(in.run[0], long(in.run[1]));
+  return Status::Ok();
+}
+
+} // namespace hair

@@ -26,6 +26,10 @@ public:
   EnergyBudget energy() const override;
   void groomed(std::vector<GuideStrand>& guides, std::vector<GroomReport>& reports) const override;
   void restCoordinates(std::vector<double>& values) const override;
+  std::string continuationRefusal() const override { return {}; }
+  std::size_t continuationCapacity(std::size_t k) const override;
+  void saveContinuation(StateContinuation& out) const override;
+  Status restoreContinuation(const StateContinuation& in) override;
   /// Its segments: every segment of every strand costs the same explicit update.
   double stepCost(const GuideStrand& guide) const override { return guide.elements; }
 

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <iterator>
 
 namespace hair
 {
@@ -654,6 +656,162 @@ std::string ProjectiveStrands::summary() const
       numberOfStrands(), segments, World.parts.size(), Steps,
       Steps ? 1e3 * StepSeconds / Steps : 0.0, Options.threads);
   return line;
+}
+
+} // namespace hair
+
+namespace hair
+{
+
+namespace
+{
+// A strand's continuation: each part a count followed by its numbers, so that a layout that
+// does not match is refused rather than read askew.
+struct Numbers
+{
+  std::vector<double>& out;
+  void add(const double* v, std::size_t n)
+  {
+    out.push_back(double(n));
+    out.insert(out.end(), v, v + n);
+  }
+  template <class T>
+  void vectors(const std::vector<T>& v)
+  {
+    add(v.empty() ? nullptr : v[0].data(), v.size() * std::size_t(T::SizeAtCompileTime));
+  }
+};
+
+struct Reader
+{
+  const std::vector<double>& in;
+  std::size_t at = 0;
+  bool ok = true;
+  /// The next part: `n` numbers expected (any when n is SIZE_MAX); null when it does not fit.
+  const double* take(std::size_t n, std::size_t& got)
+  {
+    if (!ok || at >= in.size() || !(in[at] >= 0 && in[at] <= double(in.size())))
+    {
+      ok = false;
+      return nullptr;
+    }
+    got = std::size_t(in[at]);
+    if ((n != SIZE_MAX && got != n) || at + 1 + got > in.size())
+    {
+      ok = false;
+      return nullptr;
+    }
+    const double* p = in.data() + at + 1;
+    at += 1 + got;
+    return p;
+  }
+  template <class T>
+  void vectors(std::vector<T>& v)
+  {
+    std::size_t got = 0;
+    const std::size_t width = std::size_t(T::SizeAtCompileTime);
+    if (const double* p = take(v.size() * width, got))
+    {
+      std::copy(p, p + got, v.empty() ? nullptr : v[0].data());
+    }
+  }
+};
+} // namespace
+
+void ProjectiveStrands::saveContinuation(int index, std::vector<double>& out) const
+{
+  const Strand& s = Strands[index];
+  Numbers n{out};
+  n.vectors(s.q);
+  n.vectors(s.qd);
+  n.vectors(s.P);
+  n.vectors(s.R);
+  n.vectors(s.nodeV);
+  std::vector<double> contact;
+  for (const PartContact& c : s.contact)
+  {
+    contact.insert(contact.end(), {double(c.part), c.depth, c.normal.x(), c.normal.y(),
+                                   c.normal.z(), c.surface.x(), c.surface.y(), c.surface.z()});
+  }
+  n.add(contact.data(), contact.size());
+  std::vector<double> anchors;
+  for (const Strand::Anchor& a : s.anchors)
+  {
+    anchors.insert(anchors.end(), {double(a.part), a.placed ? 1.0 : 0.0, a.sliding ? 1.0 : 0.0,
+                                   a.rest.x(), a.rest.y(), a.rest.z()});
+  }
+  n.add(anchors.data(), anchors.size());
+  n.add(s.load.data(), s.load.size());
+  const double works[] = {s.dissipated,          s.bodyWork,          s.windWork,
+                          s.contactWork,         s.projectionWork,    s.constraintDissipated,
+                          s.inelasticDissipated, s.frictionDissipated};
+  n.add(works, std::size(works));
+}
+
+std::size_t ProjectiveStrands::continuationSize(int index) const
+{
+  std::vector<double> v;
+  saveContinuation(index, v);
+  return v.size();
+}
+
+Status ProjectiveStrands::restoreContinuation(int index, const std::vector<double>& values)
+{
+  Strand& s = Strands[index];
+  Strand r = s;
+  Reader in{values};
+  in.vectors(r.q);
+  in.vectors(r.qd);
+  in.vectors(r.P);
+  in.vectors(r.R);
+  in.vectors(r.nodeV);
+  std::size_t got = 0;
+  if (const double* c = in.take(8 * r.contact.size(), got))
+  {
+    for (PartContact& p : r.contact)
+    {
+      p.part = int(c[0]);
+      p.depth = c[1];
+      p.normal = Eigen::Vector3d(c[2], c[3], c[4]);
+      p.surface = Eigen::Vector3d(c[5], c[6], c[7]);
+      c += 8;
+    }
+  }
+  if (const double* a = in.take(6 * r.anchors.size(), got))
+  {
+    for (Strand::Anchor& p : r.anchors)
+    {
+      p.part = int(a[0]);
+      p.placed = a[1] != 0;
+      p.sliding = a[2] != 0;
+      p.rest = Eigen::Vector3d(a[3], a[4], a[5]);
+      a += 6;
+    }
+  }
+  if (const double* l = in.take(r.load.size(), got))
+  {
+    std::copy(l, l + got, r.load.begin());
+  }
+  double* works[] = {&r.dissipated,          &r.bodyWork,          &r.windWork,
+                     &r.contactWork,         &r.projectionWork,    &r.constraintDissipated,
+                     &r.inelasticDissipated, &r.frictionDissipated};
+  if (const double* w = in.take(std::size(works), got))
+  {
+    for (double* x : works)
+    {
+      *x = *w++;
+    }
+  }
+  if (!in.ok || in.at != values.size() ||
+      !std::all_of(values.begin(), values.end(), [](double x) { return std::isfinite(x); }))
+  {
+    return Status::Error("projective strand " + std::to_string(index) +
+                         ": its continuation does not fit a strand of " +
+                         std::to_string(s.q.size()) + " segments (" +
+                         std::to_string(values.size()) + " numbers) or is not finite.");
+  }
+  s = std::move(r);
+  return Status::Ok();
 }
 
 } // namespace hair

@@ -129,6 +129,23 @@ public:
   double hingeStiffness(int s) const { return Strands[s].kappa; }
   const std::vector<Eigen::Vector2d>& restAngles(int s) const { return Strands[s].q0; }
 
+  /// Everything strand s's next steps depend on beyond its material and rest shape, as
+  /// numbers (appended to `out`): angles, rates, nodes, frames, contacts, node velocities,
+  /// friction's anchors and loads, and its works since the start.
+  void saveContinuation(int s, std::vector<double>& out) const;
+  /// Puts back what saveContinuation gave into strand s of strands initialized alike;
+  /// refuses numbers of another layout.
+  Status restoreContinuation(int s, const std::vector<double>& values);
+  /// How many numbers saveContinuation gives strand s.
+  std::size_t continuationSize(int s) const;
+  /// The clock: the time and the steps taken (restored with the strands').
+  long steps() const { return Steps; }
+  void restoreClock(double time, long steps)
+  {
+    Time = time;
+    Steps = steps;
+  }
+
   /// One step of h. Thread-safe inside; not to be called concurrently.
   Status step(ProjectiveStepStats* stats = nullptr);
   /// Steps until `duration` has passed (rounded to whole steps); `progress` (optional) is

@@ -583,6 +583,99 @@ Status SuperHelix::setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdo
   return Status::Ok();
 }
 
+namespace
+{
+// The scalars of a strand's continuation, before q, q̇, BDF2's history and the energy report.
+constexpr std::size_t ContinuationScalars = 11;
+constexpr std::size_t EnergyReportValues = sizeof(EnergyReport) / sizeof(double);
+static_assert(sizeof(EnergyReport) == 22 * sizeof(double),
+              "EnergyReport is saved as its doubles: a new member must be a double");
+} // namespace
+
+std::size_t SuperHelix::continuationSize(int elements)
+{
+  return ContinuationScalars + 4 * 3 * std::size_t(elements) + EnergyReportValues;
+}
+
+void SuperHelix::saveContinuation(std::vector<double>& out) const
+{
+  const int n = 3 * elementCount();
+  const double scalars[ContinuationScalars] = {
+      Time,        double(LastSubsteps),   double(LastRejected),   double(LastFirstOrder),
+      LastError,   double(LastErrorPower), double(MidpointSkip),   double(MidpointBackoff),
+      NextSubstep, PreviousStep,           HasPrevious ? 1.0 : 0.0};
+  out.insert(out.end(), scalars, scalars + ContinuationScalars);
+  auto append = [&](const Eigen::VectorXd& v)
+  {
+    if (v.size() == n)
+    {
+      out.insert(out.end(), v.data(), v.data() + n);
+    }
+    else
+    {
+      out.insert(out.end(), std::size_t(n), 0.0); // no history yet
+    }
+  };
+  append(Q);
+  append(Qdot);
+  append(PreviousQ);
+  append(PreviousQdot);
+  const double* e = reinterpret_cast<const double*>(&Energy);
+  out.insert(out.end(), e, e + EnergyReportValues);
+}
+
+Status SuperHelix::restoreContinuation(const double* values, std::size_t count, std::size_t& used)
+{
+  used = 0;
+  const int n = 3 * elementCount();
+  const std::size_t need = continuationSize(elementCount());
+  if (!Initialized || count < need)
+  {
+    return Status::Error("strand '" + Spec.name + "': its continuation has " +
+                         std::to_string(count) + " numbers, a strand of " +
+                         std::to_string(elementCount()) + " elements needs " +
+                         std::to_string(need) + ".");
+  }
+  for (std::size_t i = 0; i < need; ++i)
+  {
+    if (!std::isfinite(values[i]))
+    {
+      return Status::Error("strand '" + Spec.name +
+                           "': its continuation has a non-finite number (" + std::to_string(i) +
+                           ").");
+    }
+  }
+  const double* v = values;
+  Time = v[0];
+  LastSubsteps = int(v[1]);
+  LastRejected = int(v[2]);
+  LastFirstOrder = int(v[3]);
+  LastError = v[4];
+  LastErrorPower = int(v[5]);
+  MidpointSkip = int(v[6]);
+  MidpointBackoff = int(v[7]);
+  NextSubstep = v[8];
+  PreviousStep = v[9];
+  HasPrevious = v[10] != 0;
+  v += ContinuationScalars;
+  Q = Eigen::Map<const Eigen::VectorXd>(v, n);
+  Qdot = Eigen::Map<const Eigen::VectorXd>(v + n, n);
+  PreviousQ = Eigen::Map<const Eigen::VectorXd>(v + 2 * n, n);
+  PreviousQdot = Eigen::Map<const Eigen::VectorXd>(v + 3 * n, n);
+  if (!HasPrevious)
+  {
+    PreviousQ.resize(0);
+    PreviousQdot.resize(0);
+  }
+  v += 4 * n;
+  std::copy(v, v + EnergyReportValues, reinterpret_cast<double*>(&Energy));
+  Pending = PendingStep();
+  ContactsSet = false;
+  reconstruct();
+  used = need;
+  return Status::Ok();
+}
+
 Status SuperHelix::advance(double dt, double tolerance)
 {
   if (!(tolerance > 0))

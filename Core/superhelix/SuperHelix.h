@@ -192,6 +192,14 @@ public:
   /// Replaces q and q̇ (sizes 3N, finite). Energies are recomputed; totals are kept.
   Status setState(const Eigen::VectorXd& q, const Eigen::VectorXd& qdot);
   void setContactForces(ContactForces hook) { Contacts = std::move(hook); }
+  /// Everything its next steps depend on beyond its spec, as numbers (appended to `out`):
+  /// the time, q, q̇, the energy report, the step controller's and BDF2's history.
+  void saveContinuation(std::vector<double>& out) const;
+  /// Puts back what saveContinuation gave into a strand initialized from the same spec;
+  /// `used` is how many of `values` it took. Refuses numbers of another strand's layout.
+  Status restoreContinuation(const double* values, std::size_t count, std::size_t& used);
+  /// How many numbers saveContinuation gives for a strand of `elements` elements.
+  static std::size_t continuationSize(int elements);
 
   const StrandSpec& spec() const { return Spec; }
   int elementCount() const { return static_cast<int>(Spec.elementLengths.size()); }

@@ -754,3 +754,115 @@ EnergyBudget SuperHelixModel::energy() const
 }
 
 } // namespace hair
+
+namespace hair
+{
+
+// A strand's continuation: the rod's (SuperHelix::saveContinuation), then its static-friction
+// anchors: their count L (samples × parts), the number m of those not at rest, and m groups
+// of (index, rest x y z, flows, sliding).
+namespace
+{
+constexpr std::size_t AnchorValues = 6;
+}
+
+std::string SuperHelixModel::continuationRefusal() const
+{
+  if (Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Grid)
+  {
+    return std::string("its hair–hair interaction (the ") + toString(Options.hairHairSolver) +
+           " solver) keeps the pairs of the last step, which the state file does not hold: "
+           "only runs with the grid or without hair–hair interaction are resumed";
+  }
+  return {};
+}
+
+std::size_t SuperHelixModel::continuationCapacity(std::size_t k) const
+{
+  // Every (sample, part) pair anchored, at the samples of the strand at rest (a strand bent
+  // further takes more samples; saveContinuation says when the room is short).
+  const SuperHelix& h = Helices[k];
+  const std::size_t pairs = h.samples().size() * std::max<std::size_t>(1, World.parts.size());
+  return SuperHelix::continuationSize(h.elementCount()) + 2 + AnchorValues * pairs;
+}
+
+void SuperHelixModel::saveContinuation(StateContinuation& out) const
+{
+  out.strands.resize(Helices.size());
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    std::vector<double>& v = out.strands[k];
+    v.clear();
+    Helices[k].saveContinuation(v);
+    const std::vector<BodyAnchor>& anchors = Anchors[k];
+    v.push_back(double(anchors.size()));
+    const std::size_t count = v.size();
+    v.push_back(0);
+    for (std::size_t i = 0; i < anchors.size(); ++i)
+    {
+      const BodyAnchor& a = anchors[i];
+      if (a.set || a.flows != 0 || a.sliding || a.rest != Eigen::Vector3d::Zero())
+      {
+        v.insert(v.end(), {double(i), a.rest.x(), a.rest.y(), a.rest.z(), double(a.flows),
+                           a.set ? (a.sliding ? 3.0 : 1.0) : (a.sliding ? 2.0 : 0.0)});
+        v[count] += 1;
+      }
+    }
+  }
+  out.run = {Time, NextCoupledStep};
+}
+
+Status SuperHelixModel::restoreContinuation(const StateContinuation& in)
+{
+  if (in.strands.size() != Helices.size() || in.run.size() != 2)
+  {
+    return Status::Error("the continuation is of " + std::to_string(in.strands.size()) +
+                         " Super-Helix strands and " + std::to_string(in.run.size()) +
+                         " model values; this model has " + std::to_string(Helices.size()) +
+                         " strands and 2.");
+  }
+  for (std::size_t k = 0; k < Helices.size(); ++k)
+  {
+    const std::vector<double>& v = in.strands[k];
+    std::size_t used = 0;
+    if (Status s = Helices[k].restoreContinuation(v.data(), v.size(), used); !s)
+    {
+      return s;
+    }
+    const auto bad = [&](const char* what)
+    {
+      return Status::Error("strand " + std::to_string(Run.strandId(k)) +
+                           ": its continuation's static-friction anchors " + what + ".");
+    };
+    if (v.size() < used + 2)
+    {
+      return bad("are missing");
+    }
+    const double size = v[used], count = v[used + 1];
+    if (!(size >= 0 && size <= 1e8 && count >= 0 && count <= size &&
+          v.size() == used + 2 + AnchorValues * std::size_t(count)))
+    {
+      return bad("do not add up");
+    }
+    std::vector<BodyAnchor>& anchors = Anchors[k];
+    anchors.assign(std::size_t(size), BodyAnchor());
+    for (std::size_t j = 0; j < std::size_t(count); ++j)
+    {
+      const double* a = &v[used + 2 + AnchorValues * j];
+      if (!(a[0] >= 0 && a[0] < size) || !std::isfinite(a[1] + a[2] + a[3]))
+      {
+        return bad("name a sample that does not exist or a point that is not finite");
+      }
+      BodyAnchor& b = anchors[std::size_t(a[0])];
+      b.rest = Eigen::Vector3d(a[1], a[2], a[3]);
+      b.flows = int(a[4]);
+      b.set = a[5] == 1 || a[5] == 3;
+      b.sliding = a[5] >= 2;
+    }
+  }
+  Time = in.run[0];
+  NextCoupledStep = in.run[1];
+  return Status::Ok();
+}
+
+} // namespace hair

@@ -106,6 +106,10 @@ public:
   /// over the strands of the sum of their steps' error estimates
   /// (SuperHelix::lastErrorEstimate).
   std::map<std::string, double> stepStatistics() const override;
+  std::string continuationRefusal() const override;
+  std::size_t continuationCapacity(std::size_t k) const override;
+  void saveContinuation(StateContinuation& out) const override;
+  Status restoreContinuation(const StateContinuation& in) override;
 
   const std::vector<SuperHelix>& strands() const { return Helices; }
   /// The hair–hair contacts of the last step (when enabled, Coupled).
