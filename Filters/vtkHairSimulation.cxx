@@ -118,7 +118,8 @@ void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
      << this->HairContactIterations << " per length " << (this->HairContactPerLength ? "on" : "off")
      << "\n"
      << indent << "StateFileName: " << this->StateFileName << "\n"
-     << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n";
+     << indent << "OverwriteStateFile: " << this->OverwriteStateFile << "\n"
+     << indent << "Resume: " << this->Resume << "\n";
 }
 
 int vtkHairSimulation::FillInputPortInformation(int port, vtkInformation* info)
@@ -443,6 +444,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   storage.memoryBudget =
       this->MemoryBudget > 0 ? this->MemoryBudget * 1048576.0 : 0.5 * hair::physicalMemoryBytes();
   storage.frames = frameCount(this->Duration, this->FrameRate);
+  storage.resume = this->Resume;
   const hair::Status started = in.Sim.initialize(guides, scene, o, storage);
   if (started && !this->StateFileName.empty())
   {

@@ -162,6 +162,12 @@ public:
   vtkSetMacro(OverwriteStateFile, bool);
   vtkGetMacro(OverwriteStateFile, bool);
   vtkBooleanMacro(OverwriteStateFile, bool);
+  /// Continue the run whose state file is at StateFileName from its last whole frame (a run
+  /// that was killed or stopped), instead of starting it: the inputs and properties must be
+  /// those it was written with (refused, naming what differs, otherwise).
+  vtkSetMacro(Resume, bool);
+  vtkGetMacro(Resume, bool);
+  vtkBooleanMacro(Resume, bool);
 
   /// Memory the frames may take, in MiB; 0: half of this machine's memory. A run that needs
   /// more is refused, unless a state file is set: then only the newest frames that fit stay
@@ -219,6 +225,7 @@ protected:
   double SlipVelocity = 1e-3; ///< m/s
   std::string StateFileName;
   bool OverwriteStateFile = false;
+  bool Resume = false;
   double MemoryBudget = 0; ///< MiB, 0: half of the machine's memory
 
 private:

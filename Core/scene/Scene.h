@@ -36,6 +36,11 @@ struct Scene
   /// Every part at time t: its pose and velocity field from its motion. `out` is resized;
   /// its tables point into this scene.
   void posedParts(double t, std::vector<PosedPart>& out) const;
+  /// A number that changes when anything a run's steps read of the scene does: the parts'
+  /// names and tables, the poses of the parts and of the roots at fixed probe times over
+  /// the first 100 s, gravity and the air's velocity at probe points and times (a 52-bit
+  /// hash, exact in a double: the state file's scene_fingerprint).
+  double fingerprint() const;
 };
 
 } // namespace hair

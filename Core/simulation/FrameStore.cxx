@@ -62,13 +62,12 @@ Status FrameStore::checkMemory(int frames, double perFrame, double budget, std::
                        "kept in the file only, and read back from it when asked for.");
 }
 
-Status FrameStore::open(const StateHeader& header, const std::vector<std::string>& extra,
-                        StateFrame first, const StorageOptions& options, const FileSharing& sharing)
+Status FrameStore::plan(const StateFrame& first, const StorageOptions& options, const Ranks& ranks)
 {
   close();
   Frames.clear();
   Window = std::numeric_limits<int>::max();
-  const Ranks& ranks = sharing.ranks;
+  First = 0;
   const double perFrame = bytesOf(first);
   double window = std::numeric_limits<double>::infinity();
   Status fits = Status::Ok();
@@ -100,6 +99,18 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
   {
     Window = static_cast<int>(std::min(window, double(options.frames)));
   }
+  return Status::Ok();
+}
+
+Status FrameStore::open(const StateHeader& header, const std::vector<std::string>& extra,
+                        StateFrame first, const StorageOptions& options, const FileSharing& sharing,
+                        const StateContinuation* continuation)
+{
+  const Ranks& ranks = sharing.ranks;
+  if (Status s = plan(first, options, ranks); !s)
+  {
+    return s;
+  }
   if (!options.stateFile.empty())
   {
     auto writer = std::make_unique<StateFileWriter>();
@@ -109,7 +120,7 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
                               options.replaceStateFile ? StateFileWriter::Existing::ReplaceStateFile
                                                        : StateFileWriter::Existing::Refuse,
                               file);
-    s = s ? writer->append(first) : s;
+    s = s ? writer->append(first, continuation) : s;
     if (!s)
     {
       return s;
@@ -124,12 +135,44 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
   return Status::Ok();
 }
 
-Status FrameStore::add(StateFrame frame)
+Status FrameStore::resume(const StateHeader& header, const std::vector<std::string>& extra,
+                          std::vector<StateFrame> frames, const StorageOptions& options,
+                          const FileSharing& sharing)
+{
+  const Ranks& ranks = sharing.ranks;
+  if (frames.empty())
+  {
+    return Status::Error("a resumed run needs the frames it resumes after.");
+  }
+  if (Status s = plan(frames.back(), options, ranks); !s)
+  {
+    return s;
+  }
+  auto writer = std::make_unique<StateFileWriter>();
+  FileSharing file = sharing;
+  file.frames = options.frames;
+  if (Status s = writer->reopen(options.stateFile, header, extra,
+                                static_cast<std::int64_t>(frames.size()), file);
+      !s)
+  {
+    return s;
+  }
+  Writer = std::move(writer);
+  Header = header;
+  Piece = sharing.shared() ? header.piece(sharing.strands) : header;
+  Shared = ranks;
+  Options = options;
+  Frames = std::move(frames);
+  First = size() - 1;
+  return Status::Ok();
+}
+
+Status FrameStore::add(StateFrame frame, const StateContinuation* continuation)
 {
   Status written = Status::Ok();
   if (Writer)
   {
-    written = Writer->append(frame);
+    written = Writer->append(frame, continuation);
     if (!written)
     {
       Writer.reset();
@@ -166,7 +209,7 @@ bool FrameStore::inMemory(int index) const
 {
   // The frames older than the window are released (the same ones on every rank).
   (void)Frames.at(index);
-  return Window == std::numeric_limits<int>::max() || index >= size() - Window;
+  return index >= First && (Window == std::numeric_limits<int>::max() || index >= size() - Window);
 }
 
 void FrameStore::release(int index)

@@ -20,6 +20,10 @@ struct StorageOptions
   std::string stateFile;
   /// Replace a state file already at stateFile (anything else there is never written over).
   bool replaceStateFile = false;
+  /// Continue the run whose state file is at stateFile from its last whole frame
+  /// (Simulation::initialize: the guides, scene and options must be those it was written
+  /// with; the frames after that one are dropped), instead of creating the file.
+  bool resume = false;
   /// Bytes the frames may take in memory (∞: no limit).
   double memoryBudget = std::numeric_limits<double>::infinity();
   /// The frames the run will have, frame 0 included (0: unknown, no budget check). A run
@@ -48,12 +52,23 @@ public:
   /// frames this rank's piece (sharing.strands), the state file shared by the ranks, and the
   /// memory window the smallest any rank needs, so that the ranks release and read back
   /// the same frames.
+  /// `continuation`: the first frame's, kept in the file with it (StateFileWriter::append).
   Status open(const StateHeader& header, const std::vector<std::string>& extraEnergyTerms,
-              StateFrame first, const StorageOptions& options, const FileSharing& sharing = {});
-  /// Adds the next frame: written and flushed to the state file, kept in memory, and the
-  /// frame that leaves the memory window (already in the file) released. A write that fails
-  /// closes the file and is returned; the frame stays in memory. Under MPI, collective.
-  Status add(StateFrame frame);
+              StateFrame first, const StorageOptions& options, const FileSharing& sharing = {},
+              const StateContinuation* continuation = nullptr);
+  /// Starts the store of a run resumed after `frames` (its frames so far, read from its state
+  /// file at options.stateFile: the last one whole, the others by time and energy only, left
+  /// in the file), and opens the file to go on after them. As open() otherwise.
+  Status resume(const StateHeader& header, const std::vector<std::string>& extraEnergyTerms,
+                std::vector<StateFrame> frames, const StorageOptions& options,
+                const FileSharing& sharing = {});
+  /// Adds the next frame: written and flushed to the state file (with `continuation`, as
+  /// open()), kept in memory, and the frame that leaves the memory window (already in the
+  /// file) released. A write that fails closes the file and is returned; the frame stays in
+  /// memory. Under MPI, collective.
+  Status add(StateFrame frame, const StateContinuation* continuation = nullptr);
+  /// Whether the state file is written (a run with one that has not failed).
+  bool writing() const { return Writer != nullptr; }
   void close();
   /// A frame to write the next one into: the arrays of the last frame released from memory
   /// (their memory kept), or an empty frame.
@@ -76,12 +91,16 @@ public:
 
 private:
   void release(int index);
+  /// open()'s and resume()'s: how many frames stay in memory for a run of options.frames
+  /// frames of `first`'s size (collective); refuses a run that does not fit.
+  Status plan(const StateFrame& first, const StorageOptions& options, const Ranks& ranks);
   StateHeader Header, Piece;
   StorageOptions Options;
   Ranks Shared; ///< the ranks of the run (one: this process)
   std::vector<StateFrame> Frames;
   StateFrame Spare; ///< the arrays of the last released frame
   int Window = std::numeric_limits<int>::max();
+  int First = 0; ///< the first frame kept whole in memory (a resumed run's are in the file)
   std::unique_ptr<StateFileWriter> Writer;
 };
 

@@ -4,6 +4,7 @@
 #include "common/Machine.h"
 #include "common/Parallel.h"
 #include "common/Partition.h"
+#include "simulation/SameRun.h"
 #include "strands/StrandParameters.h"
 
 #include <algorithm>
@@ -39,12 +40,26 @@ struct Simulation::Impl
   mutable int GhostLevels = 0;
   SimulationTimings Timings;
   double Time = 0; ///< the run's time (a rank without strands has no model time)
+  /// The state file keeps each frame's continuation (Header.continuationWidth > 0), and the
+  /// last one saved (its arrays reused from frame to frame).
+  bool Continues = false;
+  StateContinuation Saved;
 
   const Ranks& ranks() const { return Options.ranks; }
   /// The model's state now as a frame, with the penetration into the scene's parts at the
   /// same time (the same parts, poses and look-ups for every model). Under MPI (collective)
   /// this rank's piece, with the whole run's time, energy and penetration.
   StateFrame record();
+  /// The model's continuation now, for the state file (collective); null when the file keeps
+  /// none.
+  const StateContinuation* continuation();
+  /// How much room the state file keeps for continuations (Header.continuationWidth and
+  /// continuationRunValues; none for a model that cannot be resumed). Collective.
+  void planContinuation();
+  /// Initialize's end for a resumed run: the file checked to be this run's, the model and
+  /// the frames so far restored from its last whole frame with a continuation, and the file
+  /// opened to go on after it. Collective.
+  Status resume(const StorageOptions& storage, const FileSharing& sharing);
   void header(const std::vector<GuideStrand>& strands);
   /// The header's /groom: curves, rest coordinates and reports, when any guide has a groom
   /// or a sag-free rest shape (files of other runs are unchanged).
@@ -208,6 +223,188 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
   at["motion_amplitude"] = m.amplitude();
   at["motion_frequency"] = m.frequency();
   at["motion_fade"] = m.fade();
+  at["scene_fingerprint"] = World.fingerprint();
+}
+
+void Simulation::Impl::planContinuation()
+{
+  double room[2] = {0, 0}; // numbers per strand (their count first), the model's own
+  if (!Mine.empty() && Model->continuationRefusal().empty())
+  {
+    for (std::size_t k = 0; k < Mine.size(); ++k)
+    {
+      room[0] = std::max(room[0], double(Model->continuationCapacity(k) + 1));
+    }
+    Model->saveContinuation(Saved);
+    room[1] = double(Saved.run.size());
+  }
+  room[0] = ranks().max(room[0]);
+  room[1] = ranks().max(room[1]);
+  Header.continuationWidth = int(room[0]);
+  Header.continuationRunValues = int(room[1]);
+  Continues = room[0] > 0;
+}
+
+const StateContinuation* Simulation::Impl::continuation()
+{
+  if (!Continues)
+  {
+    return nullptr;
+  }
+  if (!Mine.empty())
+  {
+    Model->saveContinuation(Saved);
+  }
+  else
+  {
+    Saved.strands.clear();
+    Saved.run.assign(std::size_t(Header.continuationRunValues),
+                     -std::numeric_limits<double>::infinity());
+  }
+  if (ranks().parallel() && !Saved.run.empty())
+  {
+    // The model's own numbers are the same on every rank with strands: a rank without
+    // takes theirs (rank 0 writes them).
+    std::vector<double> negated(Saved.run.size());
+    for (std::size_t i = 0; i < negated.size(); ++i)
+    {
+      negated[i] = -Saved.run[i];
+    }
+    ranks().min(negated.data(), int(negated.size()));
+    for (std::size_t i = 0; i < negated.size(); ++i)
+    {
+      Saved.run[i] = -negated[i];
+    }
+  }
+  Saved.frame = Store.size();
+  return &Saved;
+}
+
+Status Simulation::Impl::resume(const StorageOptions& storage, const FileSharing& sharing)
+{
+  const Ranks& all = ranks();
+  const std::string file = "the state file '" + storage.stateFile + "' ";
+  Status s = Status::Ok();
+  if (!Mine.empty())
+  {
+    if (const std::string why = Model->continuationRefusal(); !why.empty())
+    {
+      s = Status::Error("this run cannot be resumed: " + why + ".");
+    }
+  }
+  if (s && !Continues)
+  {
+    s = Status::Error("this run cannot be resumed: it keeps no continuation.");
+  }
+  // Every rank reads the file for its own strands (read only; the file is opened for
+  // writing once every rank has read it).
+  StateFileReader reader;
+  StateContinuation saved;
+  if (s)
+  {
+    s = reader.open(storage.stateFile);
+    if (!s)
+    {
+      s = Status::Error("nothing to resume: " + s.message());
+    }
+  }
+  if (s)
+  {
+    std::vector<std::string> terms;
+    for (const auto& [name, values] : reader.energies())
+    {
+      terms.push_back(name);
+    }
+    if (Status same = sameRun(reader.header(), reader.version(), terms, Header, Extra); !same)
+    {
+      s = Status::Error(file + same.message());
+    }
+  }
+  s = s ? reader.readContinuation(&Mine, saved) : s;
+  if (Status agreed = all.agree(s); !agreed)
+  {
+    return agreed;
+  }
+  // Every rank from the same frame.
+  double from[2] = {double(saved.frame), double(saved.frame)};
+  all.min(&from[0], 1);
+  from[1] = all.max(from[1]);
+  if (from[0] != from[1])
+  {
+    return Status::Error(file + "names different frames to resume from on different ranks (" +
+                         std::to_string(long(from[0])) + " and " + std::to_string(long(from[1])) +
+                         "): it changed while it was read.");
+  }
+  const std::int64_t last = saved.frame;
+  if (last + 1 > storage.frames && storage.frames > 0)
+  {
+    return Status::Error(file + "holds " + std::to_string(last + 1) +
+                         " frames, more than this run's " + std::to_string(storage.frames) +
+                         ": a resumed run drops no whole frame. Resume with a Duration of at "
+                         "least the file's run.");
+  }
+  // The frames so far: times and energies, and the penetration of each (its piece's
+  // contact_depth, summed over the ranks); the last one whole.
+  const StateHeader piece = all.parallel() ? Header.piece(Mine) : Header;
+  std::vector<StateFrame> frames(std::size_t(last + 1));
+  for (std::int64_t i = 0; i <= last && s; ++i)
+  {
+    StateFrame f;
+    s = reader.readPiece(i, Mine, f);
+    if (!s)
+    {
+      break;
+    }
+    long count = 0;
+    double deepest = 0;
+    for (double d : f.pointData["contact_depth"])
+    {
+      count += d > 0;
+      deepest = std::max(deepest, d);
+    }
+    Contacts.push_back(count);
+    Depth.push_back(deepest);
+    if (i == last)
+    {
+      s = restoreNodes(piece, f);
+      frames[std::size_t(i)] = std::move(f);
+    }
+    frames[std::size_t(i)].time = reader.times()[std::size_t(i)];
+    for (const auto& [name, values] : reader.energies())
+    {
+      frames[std::size_t(i)].energy[name] = values[std::size_t(i)];
+    }
+  }
+  reader.close();
+  if (Status agreed = all.agree(s); !agreed)
+  {
+    return Status::Error(file + "cannot be read back: " + agreed.message());
+  }
+  if (all.parallel())
+  {
+    std::vector<double> counts(Contacts.begin(), Contacts.end());
+    all.sum(counts.data(), int(counts.size()));
+    for (std::size_t i = 0; i < counts.size(); ++i)
+    {
+      Contacts[i] = static_cast<long>(std::llround(counts[i]));
+      Depth[i] = all.max(Depth[i]);
+    }
+  }
+  // The model's step statistics are not in the file: unknown (NaN) for the frames so far.
+  std::map<std::string, double> unknown =
+      Mine.empty() ? std::map<std::string, double>() : Model->stepStatistics();
+  for (auto& [name, value] : unknown)
+  {
+    value = std::numeric_limits<double>::quiet_NaN();
+  }
+  Steps.assign(frames.size(), unknown);
+  s = Mine.empty() ? Status::Ok() : Model->restoreContinuation(saved);
+  if (Status agreed = all.agree(s); !agreed)
+  {
+    return Status::Error(file + "cannot be resumed: " + agreed.message());
+  }
+  Time = frames.back().time;
+  return Store.resume(Header, Extra, std::move(frames), storage, sharing);
 }
 
 std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
@@ -422,10 +619,31 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   r->header(asBuilt);
   r->groom(asBuilt);
   r->Extra = r->Model->energy().extraNames();
+  if (!storage.stateFile.empty())
+  {
+    r->planContinuation();
+  }
   FileSharing sharing;
   sharing.ranks = ranks;
   sharing.strands = r->Mine;
-  if (Status s = r->Store.open(r->Header, r->Extra, r->record(), storage, sharing); !s)
+  if (storage.resume)
+  {
+    if (storage.stateFile.empty())
+    {
+      return Status::Error("a run is resumed from its state file: give the state file's name.");
+    }
+    if (Status s = r->resume(storage, sharing); !s)
+    {
+      return s;
+    }
+    P = std::move(r);
+    return Status::Ok();
+  }
+  StateFrame first = r->record();
+  const StateContinuation* continuation = r->continuation();
+  if (Status s =
+          r->Store.open(r->Header, r->Extra, std::move(first), storage, sharing, continuation);
+      !s)
   {
     return s;
   }
@@ -461,8 +679,9 @@ Status Simulation::advanceTo(int frames, const Progress& progress)
       return agreed;
     }
     StateFrame recorded = P->record();
+    const StateContinuation* continuation = P->continuation();
     clock.lap(times.recordWall, times.recordCpu);
-    Status stored = P->Store.add(std::move(recorded));
+    Status stored = P->Store.add(std::move(recorded), continuation);
     clock.lap(times.storeWall, times.storeCpu);
     ++times.frames;
     if (!stored)

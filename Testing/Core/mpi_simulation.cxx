@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <map>
 #include <mpi.h>
+#include <random>
 #include <set>
 
 using namespace hair;
@@ -150,8 +151,11 @@ struct Outcome
 };
 
 /// The run on `ranks`, `frames` frames, its state file at `file` (none if empty).
+/// With `resume`, the run of `file` resumed (docs/state-file.md, "Resuming a run") to
+/// `frames` frames.
 Outcome run(const std::vector<GuideStrand>& guides, SimulationOptions options, const Ranks& ranks,
-            int frames, const std::string& file = {}, double memoryBudget = 1e12)
+            int frames, const std::string& file = {}, double memoryBudget = 1e12,
+            bool resume = false)
 {
   Outcome r;
   options.ranks = ranks;
@@ -160,6 +164,7 @@ Outcome run(const std::vector<GuideStrand>& guides, SimulationOptions options, c
   storage.replaceStateFile = true;
   storage.frames = frames;
   storage.memoryBudget = memoryBudget;
+  storage.resume = resume;
   Simulation sim;
   r.status = sim.initialize(guides, demoScene(body()), options, storage);
   r.status = r.status ? sim.advanceTo(frames) : r.status;
@@ -489,6 +494,90 @@ TEST_P(RankIndependence, OneTwoAndFourRanksGiveTheSameStrandsAndTheSameFile)
               "difference from 1 rank 0\n",
               name, runs[2].strandsPerRank[0], runs[2].strandsPerRank[1], runs[4].strandsPerRank[0],
               runs[4].strandsPerRank[1], runs[4].strandsPerRank[2], runs[4].strandsPerRank[3]);
+}
+
+namespace
+{
+/// A run of `frames` frames into `file`, stopped after `stop` of them (collective).
+Status stopped(const std::vector<GuideStrand>& guides, SimulationOptions o, const Ranks& ranks,
+               int frames, int stop, const std::string& file)
+{
+  o.ranks = ranks;
+  StorageOptions storage;
+  storage.stateFile = file;
+  storage.replaceStateFile = true;
+  storage.frames = frames;
+  Simulation sim;
+  Status s = sim.initialize(guides, demoScene(body()), o, storage);
+  return s ? sim.advanceTo(stop) : s;
+}
+} // namespace
+
+TEST(Resume, ARunStoppedAtRandomFramesGoesOnBitForBitOnTheSameRanks)
+{
+  // Every rank of the world (2 or 4), the Super-Helix with the grid (on by default) and
+  // static friction (anchors): stopped after a random frame (its writer closed as a
+  // wall-time limit's SIGTERM would), resumed, equal to the unbroken run. The kill itself
+  // is mpi.killed_run's (SIGKILL to mpirun and every rank).
+  const FirstRanks all = firstRanks(worldSize());
+  const std::vector<GuideStrand> guides = mixedGuides(24, 8);
+  SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  o.superHelix.contacts.staticFriction = 0.4;
+  const int frames = 14;
+  const Outcome whole = run(guides, o, all.ranks, frames, temp("resume_whole.h5"));
+  ASSERT_TRUE(whole.status.ok()) << whole.status.message();
+  std::mt19937 random(34); // the same frames on every rank
+  for (int trial = 0; trial < 10; ++trial)
+  {
+    const int stop = std::uniform_int_distribution<int>(1, frames - 1)(random);
+    const std::string file = temp("resume_stopped.h5");
+    const Status first = stopped(guides, o, all.ranks, frames, stop, file);
+    const Outcome resumed = run(guides, o, all.ranks, frames, file, 1e12, true);
+    ASSERT_TRUE(first.ok() && resumed.status.ok()) << resumed.status.message();
+    EXPECT_EQ(largestDifference(whole, resumed), 0.0) << "stopped after " << stop << " frames";
+    EXPECT_EQ(resumed.times, whole.times);
+    EXPECT_EQ(resumed.table.at("kinetic"), whole.table.at("kinetic"));
+  }
+}
+
+TEST(Resume, ARunOfTwoRanksGoesOnOnThreeAndFour)
+{
+  if (worldSize() < 4)
+  {
+    GTEST_SKIP() << "needs 4 ranks (mpirun -np 4)";
+  }
+  // The strands' steps do not depend on the ranks (RankIndependence): a file of 2 ranks
+  // resumed on 3 or 4 gives the unbroken run's frames, bit for bit, each rank restoring the
+  // strands it is given.
+  const std::vector<GuideStrand> guides = mixedGuides(24, 5);
+  const SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  const int frames = 10;
+  const FirstRanks all = firstRanks(4);
+  const Outcome whole = run(guides, o, all.ranks, frames, temp("resume_whole4.h5"));
+  ASSERT_TRUE(whole.status.ok());
+  for (int n : {3, 4})
+  {
+    const std::string file = temp("resume_" + std::to_string(n) + ".h5");
+    const FirstRanks two = firstRanks(2);
+    if (two.member)
+    {
+      EXPECT_TRUE(stopped(guides, o, two.ranks, frames, 5, file).ok());
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    const FirstRanks more = firstRanks(n);
+    if (more.member)
+    {
+      const Outcome resumed = run(guides, o, more.ranks, frames, file, 1e12, true);
+      // No ASSERT between collective calls: a rank leaving early would leave the others
+      // waiting.
+      EXPECT_TRUE(resumed.status.ok()) << resumed.status.message();
+      if (resumed.status.ok())
+      {
+        EXPECT_EQ(largestDifference(whole, resumed), 0.0) << "resumed on " << n << " ranks";
+      }
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(BothModels, RankIndependence,

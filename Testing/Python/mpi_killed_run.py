@@ -9,7 +9,9 @@ killed run got). The killed file is then read
 with h5py by the documented procedure and with the project's reader (Hair State Reader, in
 pvpython): every whole frame, every dataset, equals the reference's same frame exactly (the
 same run: without hair-hair contacts, bit for bit), and the reader reports exactly the whole
-frames.
+frames. Last, the killed run is resumed from its file (Hair Simulation's Resume, pvbatch on
+the same 2 ranks) to the reference's end: every frame of the file then equals the
+reference's, bit for bit (docs/state-file.md, "Resuming a run").
 
 Run: /usr/bin/python3 Testing/Python/mpi_killed_run.py <mpirun> <pvbatch> <pvpython> <HairDynamics.so> <work dir>
 """
@@ -38,9 +40,9 @@ def check(condition, what):
         failures.append(what)
 
 
-def command(state, duration):
+def command(state, duration, *extra):
     return [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", pvbatch, "--symmetric",
-            os.path.join(HERE, "mpi_write_frames.py"), plugin, state, str(duration)]
+            os.path.join(HERE, "mpi_write_frames.py"), plugin, state, str(duration), *extra]
 
 
 def whole_frames(path):
@@ -137,6 +139,24 @@ if frames == T:
     check(difference == 0, f"Hair State Reader's last frame, rounded to single precision, is the file's nodes (largest difference {difference} m)")
 else:
     print(out.stdout[-2000:], out.stderr[-2000:])
+
+# The killed run resumed from its last whole frame to the reference's end (the file has room
+# for the hour it was started for).
+resumed = subprocess.run(command(killed, seconds, "resume"), capture_output=True, text=True)
+check(resumed.returncode == 0, f"the killed run resumed to {seconds:.2f} s ends normally "
+      f"({resumed.returncode}{': ' + resumed.stderr[-1500:] if resumed.returncode else ''})")
+with h5py.File(killed, "r") as k, h5py.File(reference, "r", swmr=True) as r:
+    T = int(k["whole_frames"][()])
+    R = int(r["whole_frames"][()]) if "whole_frames" in r else r["time"].shape[0]
+    worst = 0.0
+    for group in ("frames", "energy"):
+        for name, d in r[group].items():
+            a, b = k[group][name][:T], d[:R]
+            worst = max(worst, float(np.abs(a - b).max()) if a.shape == b.shape else np.inf)
+    times_equal = np.array_equal(k["time"][:T], r["time"][:R])
+    check(T == R and times_equal and worst == 0,
+          f"the resumed file has the reference's {R} frames ({T}), every value equal "
+          f"(largest difference {worst})")
 
 print(f"{len(failures)} failed" if failures else "all checks passed")
 sys.exit(1 if failures else 0)
