@@ -4,7 +4,8 @@ the reader meets (docs/robustness.md).
   python3 Scripts/make_fuzz_corpus.py <build>/bin/hair_study Testing/Fuzz/corpus
 
 - super-helix.h5, projective.h5: Core's Simulation through hair_study (2 strands, 2 frames),
-  as Hair Simulation writes them (format version 3: SWMR, latest format, states and nodes).
+  as Hair Simulation writes them (format version 3: SWMR, latest format, states and nodes,
+  and /resume, the continuation a resumed run reads).
 - Kept, not made here (the code that wrote them is in git history): v1-super-helix.h5 and
   v1-projective.h5 (format version 1, at 4 points per element, commit 1b87920's
   hair_study), the fixtures of the version read.

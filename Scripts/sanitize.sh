@@ -17,14 +17,15 @@ MODE="${1:-all}"
 bash "$ROOT/Scripts/install-deps.sh"
 
 # The CI subset: what reads untrusted input (the reader, the replay of the fuzz corpus and
-# its regressions), the frame loop that writes and streams state files (Simulation), each
+# its regressions), the frame loop that writes, streams and resumes state files (Simulation,
+# runs killed and resumed), each
 # model's step with its body contacts (projective, its friction, the Super-Helix's contacts),
 # hair–hair contacts, and Core's MPI ranks (on 2 ranks, and on 4 for the tests that compare
 # 1, 2 and 4). Of these executables' tests one is left to the whole suite: the Super-Helix's
 # convergence through contact (162 s under ASan, a study of the step's order whose code the
 # other contact tests run).
 ci_targets=(replay_state_file test_state_file test_state_file_bad_input test_simulation
-  test_projective test_projective_friction test_superhelix_body_contacts
+  test_resume test_projective test_projective_friction test_superhelix_body_contacts
   test_hair_hair_contacts mpi_simulation)
 
 start=$(date +%s)

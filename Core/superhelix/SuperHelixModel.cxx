@@ -779,10 +779,12 @@ std::string SuperHelixModel::continuationRefusal() const
 
 std::size_t SuperHelixModel::continuationCapacity(std::size_t k) const
 {
-  // Every (sample, part) pair anchored, at the samples of the strand at rest (a strand bent
-  // further takes more samples; saveContinuation says when the room is short).
+  // With static friction, every (sample, part) pair anchored, at the samples of the strand
+  // at rest (a strand bent further takes more samples: the file then keeps no continuation
+  // for that frame, StateFileWriter::append); without, no anchor is ever set.
   const SuperHelix& h = Helices[k];
-  const std::size_t pairs = h.samples().size() * std::max<std::size_t>(1, World.parts.size());
+  const bool anchors = Options.contacts.enabled && Options.contacts.staticFriction > 0;
+  const std::size_t pairs = anchors ? h.samples().size() * World.parts.size() : 0;
   return SuperHelix::continuationSize(h.elementCount()) + 2 + AnchorValues * pairs;
 }
 
