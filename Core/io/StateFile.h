@@ -308,6 +308,9 @@ public:
   /// strands `strands` (increasing; null: every strand). Refused, with why, when the file
   /// keeps none.
   Status readContinuation(const std::vector<std::int64_t>* strands, StateContinuation& out) const;
+  /// Written by several MPI ranks together (/whole_frames counts its whole frames; version
+  /// 2, or 3 with it), rather than by one process.
+  bool sharedByRanks() const;
   /// The file's format_version (1: one writer; 2: written by several MPI ranks together).
   int version() const;
   /// The strands of piece `piece` of `pieces` (increasing): when the file has the guides'

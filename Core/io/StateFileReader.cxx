@@ -49,6 +49,8 @@ struct Contents
   double FileBytes = 0, MemoryBytes = 0;
   /// Why the file's /resume cannot be read (empty: it can, or there is none).
   std::string ContinuationProblem;
+  /// Written by several MPI ranks together (/whole_frames counts its whole frames).
+  bool Shared = false;
 };
 
 /// The datasets every state file has.
@@ -449,6 +451,7 @@ Status readTimes(Contents& c, hid_t f, const FixedDatasets& d)
   if (c.Version == sf::SharedVersion ||
       (c.Version == sf::Version && H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) > 0))
   {
+    c.Shared = true;
     // Written by several ranks: /time is as long as the run from the start; /whole_frames,
     // one int64 written once every rank's part of a frame is, counts the whole frames.
     if (H5Lexists(f, sf::WholeFrames, H5P_DEFAULT) <= 0)
@@ -786,6 +789,11 @@ Status StateFileReader::open(const std::string& path)
   }
   P = std::move(r);
   return Status::Ok();
+}
+
+bool StateFileReader::sharedByRanks() const
+{
+  return P->Shared;
 }
 
 int StateFileReader::version() const

@@ -725,6 +725,30 @@ Status StateFileWriter::reopen(const std::string& path, const StateHeader& heade
     return fail("cannot be opened for writing: check that it is writable and that no other "
                 "process has it open.");
   }
+  // A file grows in SWMR mode when one process writes it, and has room for the run's frames
+  // when MPI ranks write it together (/whole_frames): it goes on as it was written.
+  htri_t counted = -1;
+  H5E_BEGIN_TRY
+  {
+    counted = H5Lexists(P->File.get(), sf::WholeFrames, H5P_DEFAULT);
+  }
+  H5E_END_TRY;
+  Status kind = Status::Ok();
+  if (counted > 0 && !shared)
+  {
+    kind = Status::Error("was written by MPI ranks together (with room for the run's frames "
+                         "from the start): it is resumed under MPI, on 2 ranks or more.");
+  }
+  else if (counted == 0 && shared)
+  {
+    kind = Status::Error("was written by one process (it grows as frames are added): it is "
+                         "resumed by one process, not by " +
+                         std::to_string(ranks.size()) + " MPI ranks.");
+  }
+  if (Status s = ranks.agree(kind); !s)
+  {
+    return fail(s.message());
+  }
   P->Header = header;
   P->Path = path;
   P->Sharing = sharing;

@@ -320,6 +320,17 @@ Status Simulation::Impl::resume(const StorageOptions& storage, const FileSharing
       s = Status::Error(file + same.message());
     }
   }
+  if (s && reader.sharedByRanks() != all.parallel())
+  {
+    s = Status::Error(
+        file + (reader.sharedByRanks()
+                    ? std::string("was written by MPI ranks together (with room for the run's "
+                                  "frames from the start): it is resumed under MPI, on 2 ranks "
+                                  "or more.")
+                    : "was written by one process (it grows as frames are added): it is resumed "
+                      "by one process, not by " +
+                          std::to_string(all.size()) + " MPI ranks."));
+  }
   s = s ? reader.readContinuation(&Mine, saved) : s;
   if (Status agreed = all.agree(s); !agreed)
   {

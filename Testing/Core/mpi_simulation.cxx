@@ -540,6 +540,45 @@ TEST(Resume, ARunStoppedAtRandomFramesGoesOnBitForBitOnTheSameRanks)
   }
 }
 
+TEST(Resume, AFileGoesOnAsItWasWrittenByOneProcessOrByRanks)
+{
+  // One process's file grows (SWMR); ranks' files have room from the start: each is resumed
+  // as it was written, and the other is refused, saying how, the file left as it was.
+  const std::vector<GuideStrand> guides = mixedGuides(8, 5);
+  const SimulationOptions o = optionsFor(ModelType::SuperHelix);
+  const std::string one = temp("resume_one.h5"), two = temp("resume_two.h5");
+  const FirstRanks first = firstRanks(1), pair = firstRanks(2);
+  if (first.member)
+  {
+    EXPECT_TRUE(stopped(guides, o, first.ranks, 6, 3, one).ok());
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (pair.member)
+  {
+    EXPECT_TRUE(stopped(guides, o, pair.ranks, 6, 3, two).ok());
+    const Outcome onRanks = run(guides, o, pair.ranks, 6, one, 1e12, true);
+    EXPECT_NE(onRanks.status.message().find("was written by one process (it grows as frames "
+                                            "are added): it is resumed by one process, not by 2 "
+                                            "MPI ranks."),
+              std::string::npos)
+        << onRanks.status.message();
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (first.member)
+  {
+    const Outcome alone = run(guides, o, first.ranks, 6, two, 1e12, true);
+    EXPECT_NE(alone.status.message().find("was written by MPI ranks together"), std::string::npos)
+        << alone.status.message();
+    for (const std::string& file : {one, two})
+    {
+      StateFileReader r;
+      EXPECT_TRUE(r.open(file).ok());
+      EXPECT_EQ(r.numberOfFrames(), 3) << file;
+    }
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
 TEST(Resume, ARunOfTwoRanksGoesOnOnThreeAndFour)
 {
   if (worldSize() < 4)
