@@ -57,6 +57,8 @@ constexpr unsigned AttributeMessage = 0x000C;
 constexpr unsigned ContinuationMessage = 0x0010;
 constexpr unsigned SharedMessageFlag = 0x02;
 constexpr unsigned MaxRank = 32; // H5S_MAX_RANK
+constexpr unsigned VariableLengthClass = 9;
+constexpr std::size_t HeapReferenceBytes = 16;
 
 std::uint64_t alignedTo8(std::uint64_t n)
 {
@@ -108,8 +110,12 @@ Status checkDataspace(const unsigned char* d, std::size_t size, std::uint64_t& e
 }
 
 /// An attribute message's data (IV.A.2.m), `size` bytes: its name (with its terminating
-/// zero), datatype, dataspace and, for numbers and strings, its values inside it.
-Status checkAttribute(const unsigned char* d, std::size_t size)
+/// zero), datatype, dataspace and, for numbers and strings, its values inside it. For a
+/// variable-length type, also each value's reference into the global heap (a sequence length,
+/// then a collection's address and an object's index: III.E, IV.A.2.d), which `heapObject`
+/// checks (address, index, bytes the length declares) against the collection in the file.
+template <typename HeapObject>
+Status checkAttribute(const unsigned char* d, std::size_t size, HeapObject&& heapObject)
 {
   if (size < 8)
   {
@@ -148,9 +154,48 @@ Status checkAttribute(const unsigned char* d, std::size_t size)
     return Status::Error("an attribute's " + s.message());
   }
   // Fixed-point numbers, floating-point numbers and strings: the values are the element
-  // size (the datatype's bytes 4-7) times the count. Other classes are sized differently on
-  // disk (variable-length ones, for instance) and left to HDF5.
+  // size (the datatype's bytes 4-7) times the count. Variable-length sequences and strings:
+  // each value a heap reference (below). Other classes are left to HDF5.
   const unsigned typeClass = d[typeAt] & 0x0f;
+  if (typeClass == VariableLengthClass)
+  {
+    // The datatype: its 8-byte header, then the base type's (its size at bytes 4-7). Each
+    // value: a 4-byte sequence length, an 8-byte collection address, a 4-byte object index.
+    // HDF5 1.10.8 allocates and clears length × base size bytes, then copies the object's
+    // bytes in whatever its size, and looks the index up without comparing it with the
+    // collection's objects: a damaged length made it clear gigabytes for 20 s, a damaged
+    // index or a smaller sequence made it copy memory it does not own (a segfault in
+    // H5HG_read). What HDF5 writes: the object holds exactly length × base size bytes (none
+    // when the address is 0, an empty sequence).
+    if (typeBytes < 16)
+    {
+      return Status::Error("a variable-length datatype of " + std::to_string(typeBytes) + " bytes");
+    }
+    const std::uint64_t base = little(d + typeAt + 12, 4);
+    const std::uint64_t room = size - valuesAt;
+    if (elements > room / HeapReferenceBytes)
+    {
+      return Status::Error("an attribute of " + std::to_string(elements) +
+                           " variable-length values in " + std::to_string(room) + " bytes");
+    }
+    for (std::uint64_t k = 0; k < elements; ++k)
+    {
+      const unsigned char* v = d + valuesAt + k * HeapReferenceBytes;
+      const std::uint64_t length = little(v, 4);
+      const std::uint64_t address = little(v + 4, 8);
+      const std::uint64_t index = little(v + 12, 4);
+      if (address == 0 && length == 0)
+      {
+        continue;
+      }
+      if (Status s = heapObject(address, index, length * base); !s)
+      {
+        return Status::Error("an attribute's value " + std::to_string(k) + " of " +
+                             std::to_string(length) + " * " + std::to_string(base) +
+                             " bytes: " + s.message());
+      }
+    }
+  }
   if (typeClass == 0 || typeClass == 1 || typeClass == 3)
   {
     const std::uint64_t element = little(d + typeAt + 4, 4);
@@ -167,8 +212,9 @@ Status checkAttribute(const unsigned char* d, std::size_t size)
 
 /// Walks a version 1 chunk's messages (see checkObjectHeaderMessages), handing each
 /// continuation message's chunk (address, length) to `continuation`.
-template <typename Continuation>
-Status walkMessages(const unsigned char* bytes, std::size_t size, Continuation&& continuation)
+template <typename Continuation, typename HeapObject>
+Status walkMessages(const unsigned char* bytes, std::size_t size, Continuation&& continuation,
+                    HeapObject&& heapObject)
 {
   std::size_t at = 0;
   while (size - at >= MessageHeaderBytes)
@@ -191,7 +237,7 @@ Status walkMessages(const unsigned char* bytes, std::size_t size, Continuation&&
       }
       else if (type == AttributeMessage)
       {
-        s = checkAttribute(d, length);
+        s = checkAttribute(d, length, heapObject);
       }
       else if (type == ContinuationMessage && length >= 16)
       {
@@ -361,6 +407,67 @@ herr_t handleChecked(H5FD_t* file, hid_t, void** handle)
   return 0;
 }
 
+/// The size of object `index` (not 0, the free space) of a collection `checkGlobalHeapCollection`
+/// accepted, `whole` bytes; false if it holds no such object.
+bool findHeapObject(const unsigned char* bytes, std::uint64_t whole, std::uint64_t index,
+                    std::uint64_t& objectSize)
+{
+  std::uint64_t at = HeaderBytes;
+  while (at < whole && whole - at >= ObjectHeaderBytes)
+  {
+    const unsigned i = unsigned(little(bytes + at, 2));
+    const std::uint64_t n = little(bytes + at + 8, 8);
+    if (i != 0 && i == index)
+    {
+      objectSize = n;
+      return true;
+    }
+    at += i > 0 ? ObjectHeaderBytes + ((n + 7) & ~std::uint64_t(7)) : n;
+  }
+  return false;
+}
+
+/// Whether the collection at `address` in the file holds object `index` of `bytes` bytes:
+/// the collection read here (HDF5 reads it only when it decodes the value), checked as the
+/// driver checks every collection, and the object looked up.
+Status heapObjectIn(const CheckedFile& f, std::uint64_t address, std::uint64_t index,
+                    std::uint64_t bytes)
+{
+  const std::string where = "object " + std::to_string(index) +
+                            " of the global heap collection at " + std::to_string(address);
+  const haddr_t end = endOfFile(&f.Public, H5FD_MEM_DEFAULT);
+  unsigned char header[HeaderBytes];
+  if (end == HADDR_UNDEF || address > end || end - address < HeaderBytes ||
+      !readAt(f.Descriptor, address, HeaderBytes, header) || !isCollection(header, HeaderBytes))
+  {
+    return Status::Error(where + ": no collection there");
+  }
+  const std::uint64_t whole = little(header + 8, 8);
+  if (whole < HeaderBytes || whole > LargestCollection || whole > end - address)
+  {
+    return Status::Error(where + ": a collection of " + std::to_string(whole) + " bytes");
+  }
+  std::vector<unsigned char> collection(std::size_t(whole), 0);
+  if (!readAt(f.Descriptor, address, collection.size(), collection.data()))
+  {
+    return Status::Error(where + ": unreadable");
+  }
+  if (Status s = checkGlobalHeapCollection(collection.data(), collection.size()); !s)
+  {
+    return Status::Error(where + ": " + s.message());
+  }
+  std::uint64_t objectSize = 0;
+  if (index == 0 || !findHeapObject(collection.data(), whole, index, objectSize))
+  {
+    return Status::Error(where + ": no such object");
+  }
+  if (objectSize != bytes)
+  {
+    return Status::Error(where + " holds " + std::to_string(objectSize) + " bytes");
+  }
+  return Status::Ok();
+}
+
 /// A version 1 object header's chunk, read at `addr`: its messages checked, its continuation
 /// chunks remembered. A chunk HDF5 reads in two steps (its first 512 bytes, then all of it) is
 /// checked as far as each read goes.
@@ -369,11 +476,13 @@ bool checkObjectHeaderRead(CheckedFile& f, haddr_t addr, const unsigned char* by
 {
   const auto remember = [&f](std::uint64_t at, std::uint64_t length)
   { f.Continuations[haddr_t(at)] = length; };
+  const auto heapObject = [&f](std::uint64_t address, std::uint64_t index, std::uint64_t bytes)
+  { return heapObjectIn(f, address, index, bytes); };
   const auto found = f.Continuations.find(addr);
   if (found != f.Continuations.end())
   {
     const std::size_t n = std::size_t(std::min<std::uint64_t>(found->second, size));
-    return bool(walkMessages(bytes, n, remember));
+    return bool(walkMessages(bytes, n, remember, heapObject));
   }
   if (size < PrefixBytes || bytes[0] != 1 || bytes[1] != 0)
   {
@@ -381,7 +490,7 @@ bool checkObjectHeaderRead(CheckedFile& f, haddr_t addr, const unsigned char* by
   }
   const std::uint64_t chunk = little(bytes + 8, 4);
   const std::size_t n = std::size_t(std::min<std::uint64_t>(chunk, size - PrefixBytes));
-  return bool(walkMessages(bytes + PrefixBytes, n, remember));
+  return bool(walkMessages(bytes + PrefixBytes, n, remember, heapObject));
 }
 
 herr_t readChecked(H5FD_t* file, H5FD_mem_t type, hid_t, haddr_t addr, size_t size, void* buffer)
@@ -531,7 +640,10 @@ Status checkGlobalHeapCollection(const unsigned char* bytes, std::size_t size)
 
 Status checkObjectHeaderMessages(const unsigned char* bytes, std::size_t size)
 {
-  return walkMessages(bytes, size, [](std::uint64_t, std::uint64_t) {});
+  // No file here: heap references are left unchecked (the driver checks them).
+  return walkMessages(
+      bytes, size, [](std::uint64_t, std::uint64_t) {},
+      [](std::uint64_t, std::uint64_t, std::uint64_t) { return Status::Ok(); });
 }
 
 hid_t checkedReadAccess(unsigned metadataReadAttempts)

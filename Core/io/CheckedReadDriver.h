@@ -16,7 +16,11 @@
 // without comparing them with the message's own size, so a damaged field makes it copy
 // memory it does not own. The driver sees each object header chunk as it is read (the
 // chunks' addresses from their continuation messages) and refuses one holding such a
-// message. Version 2 headers carry a checksum HDF5 verifies first. docs/robustness.md.
+// message, or an attribute whose variable-length value (a string's text) does not name an
+// object of its declared size in a global heap collection of the file: HDF5 looks the object
+// up without a bound (a segfault) and allocates what the value's length declares (gigabytes
+// cleared for a damaged one). Version 2 headers carry a checksum HDF5 verifies first.
+// docs/robustness.md.
 #include "common/Status.h"
 
 #include <hdf5.h>
@@ -45,6 +49,8 @@ Status checkGlobalHeapCollection(const unsigned char* bytes, std::size_t size);
 /// and values, and each dataspace message's dimensions, inside the message (File Format
 /// Specification 3.0, IV.A.1.a and IV.A.2.b, .m). Messages that do not fit the chunk, and
 /// other kinds, are left to HDF5, which checks those itself. Assumes 8-byte lengths.
+/// Variable-length values' references into the global heap are not checked here (that needs
+/// the file: the driver checks them as it reads a header).
 Status checkObjectHeaderMessages(const unsigned char* bytes, std::size_t size);
 
 } // namespace hair::hdf5

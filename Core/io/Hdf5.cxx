@@ -225,6 +225,10 @@ bool readNumericAttribute(hid_t obj, const char* name, double& value)
 
 namespace
 {
+/// A name no attribute of a state file has (control characters included): attributeNames
+/// looks it up to have HDF5 decode every attribute message.
+constexpr char NoSuchAttribute[] = "\x01hairdynamics: no attribute has this name\x01";
+
 /// Collects names, at most MaxLinks of them (then stops the iteration with an error).
 herr_t collect(const char* name, void* data)
 {
@@ -238,11 +242,22 @@ herr_t collect(const char* name, void* data)
 }
 } // namespace
 
-std::vector<std::string> attributeNames(hid_t obj)
+bool attributeNames(hid_t obj, std::vector<std::string>& names)
 {
-  // In the order stored (H5_ITER_NATIVE), then sorted: HDF5 builds no table of them first
-  // (its sorted table of a damaged object's dense storage crashed in HDF5 itself).
-  std::vector<std::string> names;
+  names.clear();
+  // Every attribute message decoded first, by a look-up of a name no attribute has: HDF5
+  // 1.10.8 looks a name up message by message, decoding each, and returns an error if one
+  // cannot be decoded. H5Aiterate2 copies the attributes of a header's compact storage into
+  // a table first, and when a message after the first cannot be decoded it releases the
+  // table's slots past the last one filled, uninitialized memory: a segfault inside HDF5 on
+  // damaged files written by MPI ranks (version 1 object headers, which carry no checksum;
+  // Testing/Fuzz/regressions/crash-attribute-table-release).
+  if (H5Aexists(obj, NoSuchAttribute) != 0)
+  {
+    return false;
+  }
+  // In the order stored (H5_ITER_NATIVE), then sorted: for dense storage HDF5 then builds no
+  // table (its sorted table of a damaged object's dense storage crashed in HDF5 itself).
   hsize_t at = 0;
   if (H5Aiterate2(
           obj, H5_INDEX_NAME, H5_ITER_NATIVE, &at,
@@ -251,9 +266,10 @@ std::vector<std::string> attributeNames(hid_t obj)
           &names) < 0)
   {
     names.clear();
+    return false;
   }
   std::sort(names.begin(), names.end());
-  return names;
+  return true;
 }
 
 // ---- Groups -----------------------------------------------------------------------------

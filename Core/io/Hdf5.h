@@ -69,9 +69,9 @@ Status readIntAttribute(hid_t obj, const char* name, int& value);
 /// it is of another class or cannot be read.
 bool readNumericAttribute(hid_t obj, const char* name, double& value);
 
-/// The names of an object's attributes, in name order (none if they cannot be listed, or
-/// there are more than MaxLinks).
-std::vector<std::string> attributeNames(hid_t obj);
+/// The names of an object's attributes, in name order. False (and no names) if they cannot
+/// be listed (an attribute message HDF5 cannot decode) or there are more than MaxLinks.
+bool attributeNames(hid_t obj, std::vector<std::string>& names);
 
 // ---- Groups -----------------------------------------------------------------------------
 

@@ -292,9 +292,14 @@ Status readValues(hid_t dataset, const std::string& path, hsize_t count, std::ve
 }
 
 /// Every numeric attribute of the root but the format's own is a run attribute.
-void readRunAttributes(hid_t f, std::map<std::string, double>& attributes)
+Status readRunAttributes(hid_t f, std::map<std::string, double>& attributes)
 {
-  for (const std::string& name : attributeNames(f))
+  std::vector<std::string> names;
+  if (!attributeNames(f, names))
+  {
+    return damaged("the root's attributes cannot be listed (one of them is damaged).");
+  }
+  for (const std::string& name : names)
   {
     if (std::find_if(std::begin(sf::RootAttributes), std::end(sf::RootAttributes),
                      [&](const char* x) { return name == x; }) != std::end(sf::RootAttributes))
@@ -307,6 +312,7 @@ void readRunAttributes(hid_t f, std::map<std::string, double>& attributes)
       attributes[name] = value;
     }
   }
+  return Status::Ok();
 }
 
 /// Per-strand parameters and vectors: every other dataset of /strands holding numbers, shaped
@@ -400,7 +406,10 @@ Status readHeader(const Contents& c, hid_t f, hid_t offsets, StateHeader& header
                    std::to_string(header.coordinatesPerStrand) + ", outside [0, " +
                    std::to_string(MaxCoordinates) + "].");
   }
-  readRunAttributes(f, header.attributes);
+  if (Status s = readRunAttributes(f, header.attributes); !s)
+  {
+    return s;
+  }
   DatasetInfo info;
   if (!describe(offsets, info))
   {

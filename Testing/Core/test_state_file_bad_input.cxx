@@ -739,6 +739,70 @@ TEST(StateFileBadInput, ADamagedGlobalHeapIsRefusedNotLoopedOn)
   expectRead(path); // the undamaged file still reads through the checked driver
 }
 
+TEST(StateFileBadInput, DamagedFilesOfMpiRanksAreRefusedNotCrashedOn)
+{
+  // Files written by MPI ranks together (version 1 object headers, no checksum) with one byte
+  // changed, as Scripts/hostile_files.py found them (Testing/Fuzz/regressions/). Before the
+  // checks, HDF5 1.10.8 crashed or spent 18 s on each; each open runs in a child process
+  // with a 20-s alarm, so that a crash or a hang fails this test instead of ending it.
+  struct Damage
+  {
+    const char* source;
+    std::size_t at;
+    unsigned char was, now;
+    const char* refusal;
+  };
+  const Damage damages[] = {
+      // The flags of a root attribute's message (after coordinates_per_strand) made
+      // "shared": its decode fails in the middle of H5Aiterate2's table of attributes.
+      {"v3-shared-super-helix.h5", 0x4a4, 0x00, 0x13, "the root's attributes cannot be listed"},
+      // The heap object index of `format`'s value, 1, made 0x3c000001.
+      {"v3-shared-super-helix.h5", 0x37f, 0x00, 0x3c, "HDF5 cannot open it"},
+      // The length of `model`'s value, 11, made 0x8400000b (2.2 GB cleared by HDF5).
+      {"v2-super-helix.h5", 0x3fb, 0x00, 0x84, "HDF5 cannot open it"},
+  };
+  for (const Damage& d : damages)
+  {
+    const std::string source = std::string(HAIR_STATE_FILES_DIR) + "/" + d.source;
+    std::string bytes;
+    {
+      std::ifstream in(source, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    ASSERT_GT(bytes.size(), d.at);
+    ASSERT_EQ(static_cast<unsigned char>(bytes[d.at]), d.was) << d.source << " changed";
+    {
+      StateFileReader intact;
+      const Status s = intact.open(source);
+      ASSERT_TRUE(s.ok()) << s.message();
+    }
+    bytes[d.at] = static_cast<char>(d.now);
+    const std::string copy = temp("mpi-damaged.h5");
+    std::ofstream(copy, std::ios::binary) << bytes;
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0)
+    {
+      alarm(20);
+      StateFileReader r;
+      const Status s = r.open(copy);
+      std::printf("%s, byte %zu: %s\n", d.source, d.at, s ? "read" : s.message().c_str());
+      std::fflush(stdout);
+      _exit(!s && s.message().find(copy) != std::string::npos &&
+                    s.message().find(d.refusal) != std::string::npos
+                ? 0
+                : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFEXITED(status))
+        << d.source << ", byte " << d.at << ": the open did not end "
+        << "(signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0)
+        << d.source << ", byte " << d.at << " was not refused as expected";
+  }
+}
+
 TEST(StateFileBadInput, TwoReadersOfOneFileSeeItsNewFrames)
 {
   // Issue 24: the second Hair State Reader of a file stayed at the frames it first saw, even
