@@ -200,21 +200,23 @@ def main():
                 return index, kind, path, outcome, message, seconds, err
 
             counts, messages = collections.Counter(), collections.Counter()
-            slowest, noisy = (0.0, None), 0
+            slowest, noted, noisy = (0.0, None), 0, 0
             with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
                 for index, kind, path, outcome, message, seconds, err in pool.map(
                         one, range(args.copies)):
                     counts[outcome] += 1
                     by_kind[kind][outcome] += 1
                     slowest = max(slowest, (seconds, index))
-                    if err and not err.startswith(HDF5_AT_EXIT):
+                    if err.startswith(HDF5_AT_EXIT):
+                        noted += 1
+                    elif err:
                         noisy += 1
                     if outcome == "refused":
                         messages[message.replace(path, "<copy>")] += 1
                     elif outcome != "read whole":
                         failures.append((name, index, kind, outcome, message,
                                          os.path.join(keep, os.path.basename(path))))
-            rows.append((name, relative, len(data), counts, slowest, messages, noisy))
+            rows.append((name, relative, len(data), counts, slowest, messages, noted, noisy))
             print(f"{name}: {dict(counts)}", file=sys.stderr, flush=True)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
@@ -225,7 +227,7 @@ def main():
     print("| source | copies | read whole | refused | crashes | hangs | unclear refusals "
           "| slowest child |")
     print("|---|---|---|---|---|---|---|---|")
-    for name, relative, size, counts, slowest, _, _ in rows:
+    for name, relative, size, counts, slowest, _, _, _ in rows:
         print(f"| {name} (`{os.path.basename(relative)}`, {size} bytes) | {args.copies} "
               f"| {counts['read whole']} | {counts['refused']} | {counts['crash']} "
               f"| {counts['hang']} | {counts['unclear']} | {slowest[0]:.2f} s (copy {slowest[1]}) |")
@@ -236,11 +238,12 @@ def main():
         c = by_kind[kind]
         print(f"| {kind} | {c['read whole']} | {c['refused']} | {c['crash']} | {c['hang']} "
               f"| {c['unclear']} |")
-    for name, _, _, _, _, messages, noisy in rows:
+    for name, _, _, _, _, messages, noted, noisy in rows:
         print(f"\n{name}: {len(messages)} different refusals; the most common "
               f"(<copy> is the damaged file's path):")
         for message, count in messages.most_common(4):
             print(f"  {count:4d} × {message}")
+        print(f"  {noted} children printed HDF5's note at exit ({HDF5_AT_EXIT!r})")
         if noisy:
             print(f"  {noisy} children wrote to stderr beside their answer (other than "
                   f"HDF5's note at exit)")
