@@ -19,7 +19,9 @@
 // message, or an attribute whose variable-length value (a string's text) does not name an
 // object of its declared size in a global heap collection of the file: HDF5 looks the object
 // up without a bound (a segfault) and allocates what the value's length declares (gigabytes
-// cleared for a damaged one). Version 2 headers carry a checksum HDF5 verifies first.
+// cleared for a damaged one). Version 2 headers carry a checksum HDF5 verifies first, after
+// it has allocated the size they declare: a header whose chunk runs past the file's
+// addresses (either version) is refused at its first bytes.
 // docs/robustness.md.
 #include "common/Status.h"
 
