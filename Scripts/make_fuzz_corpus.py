@@ -10,10 +10,9 @@ the reader meets (docs/robustness.md).
   v1-projective.h5 (format version 1, at 4 points per element, commit 1b87920's
   hair_study), the fixtures of the version read.
 
-Files written by several MPI ranks (HDF5's earliest format) are not seeds: on them the
-fuzzer reaches crashes inside HDF5 1.10.8 that the reader cannot refuse beforehand (one in
-H5Aiterate2 on a damaged root attribute), for the hostile-files work to isolate. Their
-fixtures are in Testing/Fixtures/StateFiles/.
+Files written by several MPI ranks (HDF5's earliest format) are not seeds: their fixtures,
+Testing/Fixtures/StateFiles/, are damaged 1 000 times each by Scripts/hostile_files.py and
+each copy read in a child with a time limit (docs/robustness.md, "Hostile files at scale").
 - h5py.h5: written by h5py by the documented names only (fixed-length strings, contiguous
   datasets, the default format), as a user's script writes one.
 - killed.h5: an h5py SWMR writer that never closed (as after SIGKILL): the file still says a
