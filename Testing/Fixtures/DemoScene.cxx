@@ -36,6 +36,27 @@ Status demoGuides(const BundledBody& body, int count, int elements,
   return growGuides(roots, grow, guides);
 }
 
+Status demoGuides(const BundledBody& body, int count, int elements,
+                  const std::vector<HairType>& presets, std::vector<GuideStrand>& guides)
+{
+  if (presets.empty())
+  {
+    return Status::Error("demoGuides: no hair preset given.");
+  }
+  const int n = static_cast<int>(presets.size());
+  if (Status s = demoGuides(body, count * n, elements, guides); !s)
+  {
+    return s;
+  }
+  // The growth is the preset's only through the parameters the guide carries: the models
+  // give it its natural shape from them.
+  for (std::size_t k = 0; k < guides.size(); ++k)
+  {
+    guides[k].hair = HairParameters::preset(presets[k % n]);
+  }
+  return Status::Ok();
+}
+
 Scene demoScene(const BundledBody& body)
 {
   Scene scene;

@@ -19,6 +19,12 @@ namespace hair
 /// projective one).
 Status demoGuides(const BundledBody& body, int count, int elements,
                   std::vector<GuideStrand>& guides);
+/// `count` guides of each of `presets`, grown as above (the wavy preset replaced): count ×
+/// presets.size() roots spread over the scalp, the presets taking turns along the roots'
+/// Hilbert curve (guide k has presets[k mod presets.size()]), so that every patch of the
+/// scalp has some of each.
+Status demoGuides(const BundledBody& body, int count, int elements,
+                  const std::vector<HairType>& presets, std::vector<GuideStrand>& guides);
 /// The parts, the head's motion (carrying the roots and the head's table), the wind.
 Scene demoScene(const BundledBody& body);
 
