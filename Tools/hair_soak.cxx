@@ -408,6 +408,16 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
               r.model.c_str(), guides.size(), c.strands, c.presets.size(), elements, c.amplitude,
               c.frequency, model == ModelType::Projective ? " (1 ms inside)" : "", c.interval,
               c.duration, c.threads, file.c_str());
+  // How hard the shake is where the hair is: the roots' largest distance from its axis,
+  // the speed and acceleration there (θ = A sin 2πft: ω ≤ 2πfA, α ≤ (2πf)²A).
+  double reach = 0;
+  for (const GuideStrand& g : guides)
+    reach = std::max(reach, (g.root - bundled::neckPivot()).cross(Eigen::Vector3d::UnitY()).norm());
+  const double w = 2 * M_PI * c.frequency;
+  std::printf("# roots up to %.3f m from the shake's axis: up to %.2f m/s, %.1f m/s² (%.1f g) "
+              "there; %.0f °/s at most\n",
+              reach, w * c.amplitude * reach, w * w * c.amplitude * reach,
+              w * w * c.amplitude * reach / 9.81, w * c.amplitude * 180 / M_PI);
   std::printf("# energy terms:");
   for (const auto& e : sim.frame(0).energy)
     std::printf(" %s", e.first.c_str());
