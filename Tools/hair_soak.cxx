@@ -406,7 +406,7 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
               "%g Hz, step 1/30 s%s, a frame every %g s, %g s simulated, %d thread(s), "
               "state file %s\n",
               r.model.c_str(), guides.size(), c.strands, c.presets.size(), elements, c.amplitude,
-              c.frequency, model == ModelType::Projective ? " (1 ms inside)" : "", c.interval,
+              c.frequency, model == ModelType::Projective ? " (1 ms steps inside)" : "", c.interval,
               c.duration, c.threads, file.c_str());
   // How hard the shake is where the hair is: the roots' largest distance from its axis,
   // the speed and acceleration there (θ = A sin 2πft: ω ≤ 2πfA, α ≤ (2πf)²A).
@@ -563,8 +563,8 @@ void report(const std::vector<Result>& results, const Settings& c)
     std::printf("\n%s: %s\n", r.model.c_str(), r.ok() ? "every check holds" : "A CHECK FAILED");
     if (!r.error.empty())
       std::printf("  stopped: %s\n", r.error.c_str());
-    std::printf("  %-22s %g s simulated, %d frames, %.0f s wall (%.2f ms per 1/30 s step)\n", "run",
-                r.simulated, r.frames, r.wall,
+    std::printf("  %-22s %g s simulated, %d frames, %.0f s wall (%.2f ms per 1/30 s simulated)\n",
+                "run", r.simulated, r.frames, r.wall,
                 r.simulated > 0 ? 1000 * r.wall / (r.simulated * 30) : 0.0);
     std::printf("  %-22s %s\n", "no NaN",
                 r.nanFrame < 0 ? "yes" : ("NO (frame " + std::to_string(r.nanFrame) + ")").c_str());
