@@ -8,7 +8,7 @@
 //
 //   hair_soak out=<file.h5> [model=both] [presets=all] [strands=200] [duration=3600]
 //             [interval=1.1] [frequency=3] [amplitude=0.5] [fade=1] [settle=60] [memory=8]
-//             [hairhair=on] [flat=strict] [threads=1]
+//             [hairhair=on] [flat=strict] [step=1/30] [threads=1]
 //
 // model: super-helix, projective or both (one after the other, each to its own file:
 // <file>-super-helix.h5 and <file>-projective.h5). presets: all, or a comma-separated list
@@ -191,6 +191,42 @@ int wholeFrames(const Simulation& sim)
   return n;
 }
 
+/// For a step that failed on a strand (its message names "(id k)"): the strand's preset,
+/// root and distance from the shake's axis, and its first element's coordinates in the
+/// frames still in memory (the Super-Helix model's twist and curvatures, 1/m), to see how
+/// the failure came.
+void describeFailure(const Simulation& sim, const std::vector<GuideStrand>& guides,
+                     const std::string& message)
+{
+  const auto at = message.find("(id ");
+  if (at == std::string::npos)
+    return;
+  const std::size_t k = std::strtoul(message.c_str() + at + 4, nullptr, 10);
+  if (k >= guides.size())
+    return;
+  const GuideStrand& g = guides[k];
+  const HairType types[] = {HairType::Smooth, HairType::Wavy, HairType::Curly, HairType::Fuzzy};
+  const char* preset = "custom";
+  for (HairType t : types)
+    if (HairParameters::preset(t).helixRadius == g.hair.helixRadius &&
+        HairParameters::preset(t).radius == g.hair.radius)
+      preset = toString(t);
+  std::printf("# strand %zu: %s, root (%.4f, %.4f, %.4f) m, %.3f m from the shake's axis\n", k,
+              preset, g.root.x(), g.root.y(), g.root.z(),
+              (g.root - bundled::neckPivot()).cross(Eigen::Vector3d::UnitY()).norm());
+  const int width = sim.header().coordinatesPerStrand;
+  if (width < 3)
+    return;
+  std::printf("# its first element's coordinates in the frames in memory:\n");
+  for (int f = 0; f < sim.numberOfFrames(); ++f)
+  {
+    if (!sim.hasFrameData(f) || sim.frame(f).q.size() < (k + 1) * width)
+      continue;
+    const double* q = sim.frame(f).q.data() + k * width;
+    std::printf("#   t = %8.2f s: %10.2f %10.2f %10.2f\n", sim.frame(f).time, q[0], q[1], q[2]);
+  }
+}
+
 // ---------------------------------------------------------------------------------------
 // The follower.
 
@@ -305,6 +341,7 @@ struct Settings
   double duration = 3600, interval = 1.1, frequency = 3, amplitude = 0.5, fade = 1, settle = 60;
   int threads = 1;
   double memory = 8;      ///< MB the frames may take in memory (the frame store's window)
+  double step = 1.0 / 30; ///< s, the Super-Helix model's step (the projective one: ≤ 1 ms)
   bool hairHair = true;   ///< the Super-Helix model's hair–hair contacts (its default: on)
   bool gateMemory = true; ///< flat=strict: memory growth fails the run (report: printed only)
 };
@@ -370,7 +407,7 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
   scene.parts[0].motion = shake;
   SimulationOptions o;
   o.model = model;
-  o.timeStep = 1.0 / 30;
+  o.timeStep = c.step;
   o.frameInterval = c.interval;
   o.threads = c.threads;
   o.shareBodyFriction(); // as Hair Simulation does: one friction law for both models
@@ -403,11 +440,11 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
   double peak = 0;
   memory(r.rssStart, peak);
   std::printf("\n# %s: %zu guides (%d of each of %zu presets, %d elements), shake ±%g rad at "
-              "%g Hz, step 1/30 s%s, a frame every %g s, %g s simulated, %d thread(s), "
+              "%g Hz, step %.4g s%s, a frame every %g s, %g s simulated, %d thread(s), "
               "state file %s\n",
               r.model.c_str(), guides.size(), c.strands, c.presets.size(), elements, c.amplitude,
-              c.frequency, model == ModelType::Projective ? " (1 ms steps inside)" : "", c.interval,
-              c.duration, c.threads, file.c_str());
+              c.frequency, c.step, model == ModelType::Projective ? " (1 ms steps inside)" : "",
+              c.interval, c.duration, c.threads, file.c_str());
   // How hard the shake is where the hair is: the roots' largest distance from its axis,
   // the speed and acceleration there (θ = A sin 2πft: ω ≤ 2πfA, α ≤ (2πf)²A).
   double reach = 0;
@@ -436,6 +473,7 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
     if (s = sim.advanceTo(f + 1); !s)
     {
       r.error = s.message();
+      describeFailure(sim, guides, r.error);
       break;
     }
     const StateFrame& frame = sim.frame(f);
@@ -629,11 +667,23 @@ std::string withSuffix(const std::string& file, const std::string& suffix)
 
 int main(int argc, char** argv)
 {
-  std::map<std::string, std::string> args{
-      {"duration", "3600"}, {"strands", "200"}, {"interval", "1.1"}, {"threads", "1"},
-      {"model", "both"},    {"presets", "all"}, {"frequency", "3"},  {"amplitude", "0.5"},
-      {"fade", "1"},        {"settle", "60"},   {"out", ""},         {"follow", ""},
-      {"frames", "0"},      {"memory", "8"},    {"hairhair", "on"},  {"flat", "strict"}};
+  std::map<std::string, std::string> args{{"duration", "3600"},
+                                          {"strands", "200"},
+                                          {"interval", "1.1"},
+                                          {"threads", "1"},
+                                          {"model", "both"},
+                                          {"presets", "all"},
+                                          {"frequency", "3"},
+                                          {"amplitude", "0.5"},
+                                          {"fade", "1"},
+                                          {"settle", "60"},
+                                          {"out", ""},
+                                          {"follow", ""},
+                                          {"frames", "0"},
+                                          {"memory", "8"},
+                                          {"hairhair", "on"},
+                                          {"flat", "strict"},
+                                          {"step", "0.0333333333333333333"}};
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -642,7 +692,8 @@ int main(int argc, char** argv)
     {
       std::cerr << "hair_soak: argument '" << a
                 << "' is not one of out=, model=, presets=, strands=, duration=, interval=, "
-                   "frequency=, amplitude=, fade=, settle=, memory=, hairhair=, flat=, threads=.\n";
+                   "frequency=, amplitude=, fade=, settle=, memory=, hairhair=, flat=, step=, "
+                   "threads=.\n";
       return 2;
     }
     args[a.substr(0, eq)] = a.substr(eq + 1);
@@ -661,6 +712,7 @@ int main(int argc, char** argv)
   c.fade = std::atof(args["fade"].c_str());
   c.settle = std::atof(args["settle"].c_str());
   c.memory = std::atof(args["memory"].c_str());
+  c.step = std::atof(args["step"].c_str());
   c.hairHair = args["hairhair"] != "off";
   c.gateMemory = args["flat"] != "report";
   const std::string& m = args["model"];
@@ -676,14 +728,15 @@ int main(int argc, char** argv)
       !(c.fade >= 0 && c.fade <= 10) || !(c.settle >= 0 && c.settle < c.duration) ||
       !(c.memory >= 0.1 && c.memory <= 1e5) ||
       (args["hairhair"] != "on" && args["hairhair"] != "off") ||
-      (args["flat"] != "strict" && args["flat"] != "report"))
+      (args["flat"] != "strict" && args["flat"] != "report") ||
+      !(c.step >= 1e-4 && c.step <= c.interval))
   {
-    std::cerr
-        << "hair_soak: give out=<file.h5>, model=super-helix|projective|both, presets=all "
-           "or a list of smooth,wavy,curly,fuzzy, duration in [1, 86400] s, interval in "
-           "[1/30, 60] s, strands in [1, 5000] per preset, frequency in (0, 20] Hz, "
-           "amplitude in [0, 1.5] rad, fade in [0, 10] s, settle in [0, duration) s, "
-           "memory in [0.1, 10^5] MB, hairhair=on|off, flat=strict|report, threads in [1, 256].\n";
+    std::cerr << "hair_soak: give out=<file.h5>, model=super-helix|projective|both, presets=all "
+                 "or a list of smooth,wavy,curly,fuzzy, duration in [1, 86400] s, interval in "
+                 "[1/30, 60] s, strands in [1, 5000] per preset, frequency in (0, 20] Hz, "
+                 "amplitude in [0, 1.5] rad, fade in [0, 10] s, settle in [0, duration) s, "
+                 "memory in [0.1, 10^5] MB, hairhair=on|off, flat=strict|report, step in [10^-4, "
+                 "interval] s, threads in [1, 256].\n";
     return 2;
   }
 
