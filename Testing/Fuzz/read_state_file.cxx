@@ -6,7 +6,8 @@
 //
 // The file is opened with StateFileReader, then every frame is read whole and drawn as the
 // reader draws it by default (drawGuides at 16 points per element), and read again as the two
-// pieces a reader on 2 MPI ranks asks for. Prints one line and exits with
+// pieces a reader on 2 MPI ranks asks for, and last its continuation read as a resumed run
+// reads it (whole and in the two pieces). Prints one line and exits with
 //   0  "read whole: <file>: <frames> frames"
 //   1  "refused: <message>" (the reader's message; a drawing's is prefixed with the file's
 //      name, as Hair State Reader prefixes it)
@@ -56,6 +57,15 @@ hair::Status readAll(const std::string& path, std::int64_t& frames)
         return hair::Status::Error("'" + path + "': " + s.message());
       }
     }
+  }
+  // What a resumed run reads: the newest whole frame's continuation, whole and in pieces (a
+  // file that keeps none, or a damaged one, says so: not a refusal of its frames).
+  hair::StateContinuation continuation;
+  (void)reader.readContinuation(nullptr, continuation);
+  for (int piece = 0; piece < 2; ++piece)
+  {
+    const std::vector<std::int64_t> mine = reader.pieceStrands(piece, 2);
+    (void)reader.readContinuation(&mine, continuation);
   }
   return hair::Status::Ok();
 }
