@@ -646,6 +646,35 @@ Status readEnergies(Contents& c, hid_t f)
   return Status::Ok();
 }
 
+/// The runs of consecutive strands of `strands` (increasing numbers of `h`'s strands, else
+/// refused) as rows of a per-strand dataset and, with `points`, of a per-point one.
+Status strandRuns(const StateHeader& h, const std::vector<std::int64_t>& strands, Runs& rows,
+                  Runs* points)
+{
+  for (std::size_t i = 0; i < strands.size();)
+  {
+    if (strands[i] < 0 || std::size_t(strands[i]) >= h.numberOfStrands() ||
+        (i > 0 && strands[i] <= strands[i - 1]))
+    {
+      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
+                           std::to_string(h.numberOfStrands()) + " strands.");
+    }
+    std::size_t j = i + 1;
+    while (j < strands.size() && strands[j] == strands[j - 1] + 1)
+    {
+      ++j;
+    }
+    const std::int64_t first = strands[i], last = strands[j - 1] + 1;
+    rows.emplace_back(hsize_t(first), hsize_t(last - first));
+    if (points)
+    {
+      points->emplace_back(hsize_t(h.offsets[first]), hsize_t(h.offsets[last] - h.offsets[first]));
+    }
+    i = j;
+  }
+  return Status::Ok();
+}
+
 /// The continuation's slots (/resume), when there are any: the header's continuationWidth
 /// and continuationRunValues from their shapes. A /resume that does not fit the file leaves
 /// the file readable (its frames are whole) but not resumable: the problem is kept for
@@ -948,23 +977,9 @@ Status StateFileReader::readPiece(std::int64_t index, const std::vector<std::int
   }
   const StateHeader& h = P->Header;
   Runs points, rows;
-  for (std::size_t i = 0; i < strands.size();)
+  if (Status s = strandRuns(h, strands, rows, &points); !s)
   {
-    if (strands[i] < 0 || std::size_t(strands[i]) >= h.numberOfStrands() ||
-        (i > 0 && strands[i] <= strands[i - 1]))
-    {
-      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
-                           std::to_string(h.numberOfStrands()) + " strands.");
-    }
-    std::size_t j = i + 1;
-    while (j < strands.size() && strands[j] == strands[j - 1] + 1)
-    {
-      ++j;
-    }
-    const std::int64_t first = strands[i], last = strands[j - 1] + 1;
-    rows.emplace_back(hsize_t(first), hsize_t(last - first));
-    points.emplace_back(hsize_t(h.offsets[first]), hsize_t(h.offsets[last] - h.offsets[first]));
-    i = j;
+    return s;
   }
   const StateHeader piece = h.piece(strands);
   StateFrame out;
@@ -1027,21 +1042,9 @@ Status StateFileReader::readContinuation(const std::vector<std::int64_t>* strand
     strands = &all;
   }
   Runs rows;
-  for (std::size_t i = 0; i < strands->size();)
+  if (Status s = strandRuns(h, *strands, rows, nullptr); !s)
   {
-    const std::vector<std::int64_t>& ids = *strands;
-    if (ids[i] < 0 || std::size_t(ids[i]) >= h.numberOfStrands() || (i > 0 && ids[i] <= ids[i - 1]))
-    {
-      return Status::Error("the strands of a piece must be increasing numbers of the file's " +
-                           std::to_string(h.numberOfStrands()) + " strands.");
-    }
-    std::size_t j = i + 1;
-    while (j < ids.size() && ids[j] == ids[j - 1] + 1)
-    {
-      ++j;
-    }
-    rows.emplace_back(hsize_t(ids[i]), hsize_t(ids[j - 1] + 1 - ids[i]));
-    i = j;
+    return s;
   }
   const std::size_t width = std::size_t(h.continuationWidth);
   std::int64_t slots[2] = {-1, -1};

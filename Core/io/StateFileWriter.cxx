@@ -38,20 +38,27 @@ Handle createFile(const std::string& path)
   return file;
 }
 
-/// Creates (truncates) the file shared by `ranks`, collectively: parallel HDF5 (MPI-IO) in
+/// The access of a file shared by `ranks`, collectively: parallel HDF5 (MPI-IO) in
 /// the library's earliest format, whose superblock has no "open for writing" flag, so that a
 /// file whose writers were killed opens in any reader; every object 8-byte aligned, so that
 /// the count of whole frames is written in one piece.
+Handle sharedAccess(const Ranks& ranks)
+{
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+  H5Pset_fapl_mpio(fapl.get(), ranks.comm(), MPI_INFO_NULL);
+  H5Pset_alignment(fapl.get(), 0, 8);
+  H5Pset_all_coll_metadata_ops(fapl.get(), 1);
+  H5Pset_coll_metadata_write(fapl.get(), 1);
+  return fapl;
+}
+
+/// Creates (truncates) the file shared by `ranks`, collectively (sharedAccess).
 Handle createSharedFile(const std::string& path, const Ranks& ranks)
 {
   Handle file;
   H5E_BEGIN_TRY
   {
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
-    H5Pset_fapl_mpio(fapl.get(), ranks.comm(), MPI_INFO_NULL);
-    H5Pset_alignment(fapl.get(), 0, 8);
-    H5Pset_all_coll_metadata_ops(fapl.get(), 1);
-    H5Pset_coll_metadata_write(fapl.get(), 1);
+    Handle fapl = sharedAccess(ranks);
     file = Handle(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()));
   }
   H5E_END_TRY;
@@ -290,6 +297,11 @@ struct StateFileWriter::Impl
                            const std::string& where);
   /// Opens or creates /resume's datasets and this rank's rows of them.
   bool openContinuation(hid_t f, bool create);
+  /// Shared files: this rank's header (PieceHeader) and its rows of every per-frame dataset
+  /// (Selections).
+  bool selectPiece();
+  /// Shared files, rank 0: the file locked shared while the run writes it (Lock).
+  void lock();
 
   ~Impl()
   {
@@ -318,6 +330,34 @@ bool writeRow(hid_t dataset, hsize_t row, hid_t type, const void* values, hsize_
          H5Dwrite(dataset, type, memory.get(), file.get(), H5P_DEFAULT, values) >= 0;
 }
 } // namespace
+
+bool StateFileWriter::Impl::selectPiece()
+{
+  PieceHeader = Header.piece(Sharing.strands);
+  const Piece piece = pieceOf(Header, Sharing.strands);
+  bool ok = true;
+  StateFrame none;
+  forEachArray(Header, none, false,
+               [&](const FrameArray& a)
+               {
+                 const Handle& d = Arrays.at(a.name).handle;
+                 ok = ok && d.valid() &&
+                      Selections[d.get()].build(d.get(), a.perPoint ? piece.points : piece.strands);
+               });
+  return ok;
+}
+
+void StateFileWriter::Impl::lock()
+{
+  if (Sharing.ranks.rank() == 0)
+  {
+    Lock = ::open(Path.c_str(), O_RDONLY);
+    if (Lock >= 0)
+    {
+      ::flock(Lock, LOCK_SH | LOCK_NB);
+    }
+  }
+}
 
 bool StateFileWriter::Impl::openContinuation(hid_t f, bool create)
 {
@@ -628,21 +668,7 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
     H5Pset_fill_time(props.get(), H5D_FILL_TIME_ALLOC);
     P->WholeFrames = Handle(H5Dcreate2(f, sf::WholeFrames, H5T_NATIVE_INT64, space.get(),
                                        H5P_DEFAULT, props.get(), H5P_DEFAULT));
-    ok = P->WholeFrames.valid();
-    P->PieceHeader = header.piece(sharing.strands);
-    const Piece piece = pieceOf(header, sharing.strands);
-    auto select = [&](const Handle& d, const Runs& runs)
-    {
-      if (ok && d.valid())
-      {
-        ok = P->Selections[d.get()].build(d.get(), runs);
-      }
-    };
-    StateFrame none;
-    forEachArray(header, none, false,
-                 [&](const FrameArray& a) {
-                   select(P->Arrays.at(a.name).handle, a.perPoint ? piece.points : piece.strands);
-                 });
+    ok = P->WholeFrames.valid() && P->selectPiece();
     ok = ok && H5Fflush(f, H5F_SCOPE_GLOBAL) >= 0;
   }
   H5E_END_TRY;
@@ -650,14 +676,7 @@ Status StateFileWriter::create(const std::string& path, const StateHeader& heade
   {
     return fail(s.message());
   }
-  if (ranks.rank() == 0)
-  {
-    P->Lock = ::open(path.c_str(), O_RDONLY);
-    if (P->Lock >= 0)
-    {
-      ::flock(P->Lock, LOCK_SH | LOCK_NB);
-    }
-  }
+  P->lock();
   return Status::Ok();
 }
 
@@ -671,15 +690,8 @@ Handle openForWriting(const std::string& path, const Ranks& ranks, bool shared)
   Handle file;
   H5E_BEGIN_TRY
   {
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
-    if (shared)
-    {
-      H5Pset_fapl_mpio(fapl.get(), ranks.comm(), MPI_INFO_NULL);
-      H5Pset_alignment(fapl.get(), 0, 8);
-      H5Pset_all_coll_metadata_ops(fapl.get(), 1);
-      H5Pset_coll_metadata_write(fapl.get(), 1);
-    }
-    else
+    Handle fapl = shared ? sharedAccess(ranks) : Handle(H5Pcreate(H5P_FILE_ACCESS));
+    if (!shared)
     {
       H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
       hbool_t clear = 1;
@@ -848,16 +860,7 @@ Status StateFileWriter::reopen(const std::string& path, const StateHeader& heade
       ok = H5Dwrite(P->WholeFrames.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT,
                     &whole) >= 0;
     }
-    P->PieceHeader = header.piece(sharing.strands);
-    const Piece piece = pieceOf(header, sharing.strands);
-    StateFrame none;
-    forEachArray(header, none, false,
-                 [&](const FrameArray& a)
-                 {
-                   const Handle& d = P->Arrays.at(a.name).handle;
-                   ok = ok && P->Selections[d.get()].build(d.get(), a.perPoint ? piece.points
-                                                                               : piece.strands);
-                 });
+    ok = ok && P->selectPiece();
   }
   H5E_END_TRY;
   if (Status s = ranks.agree(ok ? Status::Ok()
@@ -867,14 +870,7 @@ Status StateFileWriter::reopen(const std::string& path, const StateHeader& heade
     return fail(s.message());
   }
   P->Frames = hsize_t(keep);
-  if (ranks.rank() == 0)
-  {
-    P->Lock = ::open(path.c_str(), O_RDONLY);
-    if (P->Lock >= 0)
-    {
-      ::flock(P->Lock, LOCK_SH | LOCK_NB);
-    }
-  }
+  P->lock();
   return Status::Ok();
 }
 

@@ -127,12 +127,18 @@ Status FrameStore::open(const StateHeader& header, const std::vector<std::string
     }
     Writer = std::move(writer);
   }
-  Header = header;
-  Piece = sharing.shared() ? header.piece(sharing.strands) : header;
-  Shared = ranks;
-  Options = options;
+  keep(header, options, sharing);
   Frames.push_back(std::move(first));
   return Status::Ok();
+}
+
+void FrameStore::keep(const StateHeader& header, const StorageOptions& options,
+                      const FileSharing& sharing)
+{
+  Header = header;
+  Piece = sharing.shared() ? header.piece(sharing.strands) : header;
+  Shared = sharing.ranks;
+  Options = options;
 }
 
 Status FrameStore::resume(const StateHeader& header, const std::vector<std::string>& extra,
@@ -158,10 +164,7 @@ Status FrameStore::resume(const StateHeader& header, const std::vector<std::stri
     return s;
   }
   Writer = std::move(writer);
-  Header = header;
-  Piece = sharing.shared() ? header.piece(sharing.strands) : header;
-  Shared = ranks;
-  Options = options;
+  keep(header, options, sharing);
   Frames = std::move(frames);
   First = size() - 1;
   return Status::Ok();

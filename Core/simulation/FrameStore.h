@@ -94,6 +94,8 @@ private:
   /// open()'s and resume()'s: how many frames stay in memory for a run of options.frames
   /// frames of `first`'s size (collective); refuses a run that does not fit.
   Status plan(const StateFrame& first, const StorageOptions& options, const Ranks& ranks);
+  /// open()'s and resume()'s: the run's header, this rank's piece of it, ranks and options.
+  void keep(const StateHeader& header, const StorageOptions& options, const FileSharing& sharing);
   StateHeader Header, Piece;
   StorageOptions Options;
   Ranks Shared; ///< the ranks of the run (one: this process)
