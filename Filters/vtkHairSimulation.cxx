@@ -90,7 +90,9 @@ void vtkHairSimulation::Reset()
 void vtkHairSimulation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Model: " << (this->Model == SUPER_HELIX ? "Super-Helix" : "Projective") << "\n"
+  const hair::ModelEntry* model = hair::findModel(hair::ModelType(this->Model));
+  os << indent << "Model: " << (model ? model->label : "(not a registered model)") << " ("
+     << this->Model << ")\n"
      << indent << "TimeStep: " << this->TimeStep << "\n"
      << indent << "Duration: " << this->Duration << "\n"
      << indent << "FrameRate: " << this->FrameRate << "\n"
@@ -396,7 +398,7 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   scene.air = hair::AirField::uniform(Eigen::Vector3d(this->Wind));
 
   hair::SimulationOptions o;
-  o.model = this->Model == PROJECTIVE ? hair::ModelType::Projective : hair::ModelType::SuperHelix;
+  o.model = hair::ModelType(this->Model); // Simulation refuses one no one registered
   o.timeStep = this->TimeStep;
   o.frameInterval = 1.0 / this->FrameRate;
   o.threads = this->NumberOfThreads;

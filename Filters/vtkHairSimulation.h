@@ -33,6 +33,8 @@ public:
   void AddColliderConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(1, output); }
   void RemoveAllColliders() { this->SetInputConnection(1, nullptr); }
 
+  /// Model's values: those of Core's model registry (simulation/ModelRegistry.h), which the
+  /// filter checks; any other is refused with the registered ones when the filter runs.
   enum ModelType
   {
     SUPER_HELIX = 0,
@@ -46,7 +48,7 @@ public:
     VERTICAL = 3
   };
 
-  vtkSetClampMacro(Model, int, SUPER_HELIX, PROJECTIVE);
+  vtkSetMacro(Model, int);
   vtkGetMacro(Model, int);
   vtkSetMacro(TimeStep, double);
   vtkGetMacro(TimeStep, double);

@@ -254,9 +254,10 @@ int main(int argc, char** argv)
   }
   for (const std::string& m : modelNames)
   {
-    if (m != "super-helix" && m != "projective")
+    ModelType type;
+    if (Status s = parseModel(m, "models=", type); !s)
     {
-      return fail("unknown model '" + m + "' (super-helix, projective).", 2);
+      return fail(s.message(), 2);
     }
   }
   std::ofstream out(args.text("out", ""));
@@ -319,7 +320,7 @@ int main(int argc, char** argv)
     for (const std::string& presetName : presetNames)
     {
       SimulationOptions o;
-      o.model = modelName == "projective" ? ModelType::Projective : ModelType::SuperHelix;
+      (void)parseModel(modelName, "models=", o.model); // checked above
       o.threads = threads;
       // Each strand balanced on its own, as the sag-free rest shape is (no hair–hair term in
       // the balance): the grid's volume would push a groom packed above its rest fraction.

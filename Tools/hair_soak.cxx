@@ -384,7 +384,7 @@ struct Result
 
 std::string name(ModelType m)
 {
-  return m == ModelType::SuperHelix ? "super-helix" : "projective";
+  return findModel(m)->name;
 }
 
 Result run(ModelType model, const std::string& file, const BundledBody& body, const Settings& c)
@@ -717,10 +717,10 @@ int main(int argc, char** argv)
   c.gateMemory = args["flat"] != "report";
   const std::string& m = args["model"];
   std::vector<ModelType> models;
-  if (m == "super-helix" || m == "both")
-    models.push_back(ModelType::SuperHelix);
-  if (m == "projective" || m == "both")
-    models.push_back(ModelType::Projective);
+  if (m == "both")
+    models = {ModelType::SuperHelix, ModelType::Projective};
+  else if (ModelType type; parseModel(m, "model=", type))
+    models.push_back(type);
   if (args["out"].empty() || models.empty() || !parsePresets(args["presets"], c.presets) ||
       !(c.duration >= 1 && c.duration <= 86400) || !(c.interval >= 1.0 / 30 && c.interval <= 60) ||
       c.strands < 1 || c.strands > 5000 || c.threads < 1 || c.threads > 256 ||

@@ -481,8 +481,9 @@ int scene(const Arguments& args)
   if (s)
     s = args.number("dt", 1.0 / 30, 1e-6, 1.0 / 30, dt);
   const std::string model = args.text("model", "super-helix");
-  if (s && model != "super-helix" && model != "projective")
-    s = Status::Error("model=" + model + " is not one of super-helix, projective.");
+  ModelType type = ModelType::SuperHelix;
+  if (s)
+    s = parseModel(model, "model=", type);
   if (s && !args.has("out"))
     s = Status::Error("give the output file: out=<path>.h5.");
   if (!s)
@@ -496,7 +497,7 @@ int scene(const Arguments& args)
   // tables).
   std::vector<GuideStrand> guides;
   SimulationOptions o;
-  o.model = model == "projective" ? ModelType::Projective : ModelType::SuperHelix;
+  o.model = type;
   o.timeStep = dt; // the projective model steps at most 1 ms (explicit)
   o.frameInterval = 1.0 / 30;
   Scene scene;
@@ -693,10 +694,11 @@ int demo(const Arguments& args)
   double duration = 0, dt = 0;
   Status s = args.integer("strands", 200, 1, 10000, strands);
   const std::string model = args.text("model", "projective");
-  if (s && model != "super-helix" && model != "projective")
-    s = Status::Error("model=" + model + " is not one of super-helix, projective.");
+  ModelType type = ModelType::Projective;
   if (s)
-    s = args.integer("n", model == "projective" ? 40 : 10, 1, 400, n);
+    s = parseModel(model, "model=", type);
+  if (s)
+    s = args.integer("n", type == ModelType::Projective ? 40 : 10, 1, 400, n);
   if (s)
     s = args.number("duration", 5, 1.0 / 30, 1000, duration);
   if (s)
@@ -721,7 +723,7 @@ int demo(const Arguments& args)
     return 1;
   }
   SimulationOptions o;
-  o.model = model == "projective" ? ModelType::Projective : ModelType::SuperHelix;
+  o.model = type;
   o.timeStep = dt; // the projective model steps at most 1 ms, a whole number per frame
   o.frameInterval = 1.0 / 30;
   o.threads = threads;

@@ -3,13 +3,14 @@
 // the guides and the scene, advances in its own steps, and describes its frames and its
 // energy in the same terms as every other model; the frame loop, the state file, the
 // penetration measure and the filters know nothing else of it. superhelix/ and projective/
-// implement it; a third model is a third implementation, registered in
+// implement it; a third model is a third implementation with one entry in
 // simulation/ModelRegistry.cxx (docs/architecture.md, "Adding a model").
 #include "common/Ranks.h"
 #include "common/Status.h"
 #include "io/StateFile.h"
 #include "model/EnergyBudget.h"
 #include "model/GroomReport.h"
+#include "model/StepStatistics.h"
 #include "scene/Scene.h"
 #include "strands/GuideStrand.h"
 
@@ -88,6 +89,13 @@ public:
   /// (the Super-Helix model: sub-steps and their error estimate, simulation/Simulation.h);
   /// empty for a model that reports none.
   virtual std::map<std::string, double> stepStatistics() const { return {}; }
+  /// How each of stepStatistics' numbers becomes the whole run's under MPI (one rule per
+  /// name, the same on every rank; a number without a rule is a mean over the strands).
+  virtual std::vector<StepStatisticRule> stepStatisticRules() const { return {}; }
+  /// The memory the model takes per element of a guide (bytes, as measured), which a run is
+  /// checked against before anything is allocated (checkRunMemory). Called before
+  /// initialize().
+  virtual double bytesPerElement() const = 0;
 
   /// Why this run cannot be continued from a saved continuation (it keeps state the
   /// continuation does not hold), or empty when it can. After initialize().

@@ -1,34 +1,17 @@
 #pragma once
 // A stored frame of guides as the filters show it (Hair Simulation's output 0, Hair State
-// Reader's output): the Super-Helix drawn again from q, q̇ and the root at any number of
-// points per element with the code its model writes frames with (superhelix/Centerline.h),
-// the projective strands at their nodes; and, for both, the material frame at every point,
-// which the interpolation of rendered hair carries its offsets in. Frames without root
-// poses (state files written without /frames/root_frames) are shown as stored.
+// Reader's output), drawn by its model's registered drawer (simulation/ModelRegistry.h):
+// the Super-Helix again from q, q̇ and the root at any number of points per element with
+// the code its model writes frames with (superhelix/Centerline.h), the projective strands at
+// their nodes; and the material frame at every point, which the interpolation of rendered
+// hair carries its offsets in. Frames without root poses (state files written without
+// /frames/root_frames) and frames of a model no one registered are shown as stored.
 #include "common/Status.h"
 #include "io/StateFile.h"
-
-#include <Eigen/Core>
-
-#include <string>
-#include <vector>
+#include "model/GuideDrawing.h"
 
 namespace hair
 {
-
-struct GuideDrawing
-{
-  /// The drawn points' offsets; the stored header's strand parameters, vectors and the rest.
-  StateHeader header;
-  /// Positions, velocities and per-point scalars at the drawn points; q, q̇ and the roots as
-  /// stored.
-  StateFrame frame;
-  /// Per drawn point: the material frame's tangent and first director (unit, orthogonal).
-  /// Empty when the frame has no root poses.
-  std::vector<Eigen::Vector3d> tangents, directors;
-  /// Why the frame is shown at its stored points or without material frames; empty if not.
-  std::string warning;
-};
 
 /// Draws `frame` of a file or run described by `header`. `pointsPerElement`: Super-Helix
 /// points per element (0: as stored); the projective model's points are its nodes, whatever

@@ -1,25 +1,109 @@
-// The models a run can use, by SimulationOptions::model: the one place that names them all.
-// A new model implements StrandModel (model/StrandModel.h) in its own layer and gets a line
-// here, an enumerator in ModelType and its options in SimulationOptions.
+#include "simulation/ModelRegistry.h"
+
 #include "projective/ProjectiveModel.h"
 #include "simulation/Simulation.h"
 #include "superhelix/SuperHelixModel.h"
 
+#include <algorithm>
+#include <cctype>
+
 namespace hair
 {
 
-std::unique_ptr<StrandModel> makeModel(const SimulationOptions& options)
+namespace
 {
-  switch (options.model)
-  {
-  case ModelType::Projective:
-    return std::make_unique<ProjectiveModel>(options.projective, options.sagFree);
-  case ModelType::SuperHelix:
-    break;
-  }
+std::unique_ptr<StrandModel> makeSuperHelix(const SimulationOptions& options)
+{
   SuperHelixOptions superHelix = options.superHelix;
   superHelix.sagFree = options.sagFree;
   return std::make_unique<SuperHelixModel>(superHelix);
+}
+
+std::unique_ptr<StrandModel> makeProjective(const SimulationOptions& options)
+{
+  return std::make_unique<ProjectiveModel>(options.projective, options.sagFree);
+}
+
+std::string lower(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+} // namespace
+
+const std::vector<ModelEntry>& registeredModels()
+{
+  static const std::vector<ModelEntry> models = {
+      {ModelType::SuperHelix, "super-helix", "Super-Helix", makeSuperHelix, drawSuperHelixFrame},
+      {ModelType::Projective, "projective", "Projective", makeProjective, drawProjectiveFrame},
+  };
+  return models;
+}
+
+const ModelEntry* findModel(ModelType type)
+{
+  for (const ModelEntry& e : registeredModels())
+  {
+    if (e.type == type)
+    {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+const ModelEntry* findModel(const std::string& name)
+{
+  for (const ModelEntry& e : registeredModels())
+  {
+    if (name == e.name)
+    {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+std::string modelNames()
+{
+  std::string names;
+  for (const ModelEntry& e : registeredModels())
+  {
+    names += (names.empty() ? "" : ", ") + std::string(e.name);
+  }
+  return names;
+}
+
+Status parseModel(const std::string& name, const std::string& what, ModelType& type)
+{
+  for (const ModelEntry& e : registeredModels())
+  {
+    if (lower(name) == e.name || lower(name) == lower(e.label))
+    {
+      type = e.type;
+      return Status::Ok();
+    }
+  }
+  return Status::Error(what + name + " is not a registered model: use one of " + modelNames() +
+                       ".");
+}
+
+Status makeModel(const SimulationOptions& options, std::unique_ptr<StrandModel>& model)
+{
+  const ModelEntry* entry = findModel(options.model);
+  if (!entry)
+  {
+    std::string values;
+    for (const ModelEntry& e : registeredModels())
+    {
+      values += (values.empty() ? "" : ", ") + std::to_string(int(e.type)) + " (" + e.name + ")";
+    }
+    return Status::Error("the model " + std::to_string(int(options.model)) +
+                         " is not a registered model: use one of " + values + ".");
+  }
+  model = entry->make(options);
+  return Status::Ok();
 }
 
 } // namespace hair

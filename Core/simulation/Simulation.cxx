@@ -109,20 +109,8 @@ StateFrame Simulation::Impl::record()
   Time = f.time;
   f.energy = Model->energy().values();
   Steps.push_back(Model->stepStatistics());
-  if (ranks().parallel() && !Steps.back().empty())
-  {
-    // The whole run's: means over the strands weighted by each rank's strands, the share of
-    // first-order steps weighted by its sub-steps, the largest error estimate.
-    std::map<std::string, double>& steps = Steps.back();
-    const double n = double(Mine.size());
-    double sums[4] = {steps["substeps"] * n, steps["rejected_substeps"] * n,
-                      steps["first_order_share"] * steps["substeps"] * n, n};
-    ranks().sum(sums, 4);
-    steps["substeps"] = sums[3] > 0 ? sums[0] / sums[3] : 0.0;
-    steps["rejected_substeps"] = sums[3] > 0 ? sums[1] / sums[3] : 0.0;
-    steps["first_order_share"] = sums[0] > 0 ? sums[2] / sums[0] : 0.0;
-    steps["error_estimate"] = ranks().max(steps["error_estimate"]);
-  }
+  // The whole run's (every rank calls it, with the same rules, strands or not).
+  reduceStepStatistics(Steps.back(), Model->stepStatisticRules(), double(Mine.size()), ranks());
   std::vector<PosedPart> parts;
   World.posedParts(f.time, parts);
   // The penetration at the model's nodes (the frame's points): how deep each is inside a
@@ -207,8 +195,13 @@ void Simulation::Impl::header(const std::vector<GuideStrand>& strands)
     }
   }
   Header.rootFrames = true; // every model's writeFrame gives them (model/StrandModel.h)
-  // The penetration at the nodes; curvature and twist are drawn with the points.
-  Header.pointData = {"contact_depth"};
+  // The penetration at the nodes, beside the model's own per-point arrays; curvature and twist
+  // are drawn with the points.
+  if (std::find(Header.pointData.begin(), Header.pointData.end(), "contact_depth") ==
+      Header.pointData.end())
+  {
+    Header.pointData.push_back("contact_depth");
+  }
   auto& at = Header.attributes;
   at["time_step"] = Options.timeStep;
   at["frame_interval"] = Options.frameInterval;
@@ -494,12 +487,15 @@ Simulation::~Simulation() = default;
 Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationOptions& options,
                       double availableBytes)
 {
-  // Measured with hair_study scene (200 and 400 wavy strands of 10, 50 and 100 elements, two
-  // frames, maximum resident memory): the Super-Helix model takes about 2.6 kB per element,
-  // the projective one 0.7 kB per segment; a frame keeps per node its position, velocity
-  // and depth and per element its coordinates and rates, under 80 bytes per node.
-  const bool superHelix = options.model == ModelType::SuperHelix;
-  const double perElement = superHelix ? 2600 : 700, perPoint = 80;
+  // The model's memory per element as measured (StrandModel::bytesPerElement); a frame keeps
+  // per node its position, velocity and depth and per element its coordinates and rates,
+  // under 80 bytes per node.
+  std::unique_ptr<StrandModel> model;
+  if (Status s = makeModel(options, model); !s)
+  {
+    return s;
+  }
+  const double perElement = model->bytesPerElement(), perPoint = 80;
   double elements = 0, points = 0;
   for (const GuideStrand& g : strands)
   {
@@ -583,7 +579,10 @@ Status Simulation::initialize(const std::vector<GuideStrand>& strands, const Sce
   }
   r->Options = options;
   r->World = scene;
-  r->Model = makeModel(options);
+  if (Status s = makeModel(options, r->Model); !s)
+  {
+    return s;
+  }
   // This rank's share of the strands (all of them without MPI).
   std::vector<GuideStrand> mine;
   RunSettings run = options.run();

@@ -12,6 +12,7 @@
 #include "simulation/FrameStore.h"
 #include "simulation/GhostStrands.h"
 #include "simulation/GuideDrawing.h"
+#include "simulation/ModelRegistry.h"
 #include "strands/GuideStrand.h"
 #include "superhelix/SuperHelixModel.h"
 
@@ -23,15 +24,9 @@
 namespace hair
 {
 
-enum class ModelType
-{
-  SuperHelix = 0, ///< Bertails, Audoly, Cani et al. 2006
-  Projective = 1  ///< Kurihara, Anjyo and Thalmann 1993
-};
-
 struct SimulationOptions
 {
-  ModelType model = ModelType::SuperHelix;
+  ModelType model = ModelType::SuperHelix; ///< a registered model (simulation/ModelRegistry.h)
   double timeStep = 1.0 / 30;      ///< s; the projective model steps at most 1 ms (explicit)
   double frameInterval = 1.0 / 30; ///< s between stored frames
   int threads = 1;
@@ -57,9 +52,6 @@ struct SimulationOptions
   }
 };
 
-/// The model `options` names, made with its options (simulation/ModelRegistry.cxx).
-std::unique_ptr<StrandModel> makeModel(const SimulationOptions& options);
-
 /// Where a run's time went on this rank, summed over the frames computed by advanceTo
 /// (seconds of wall time on the calling thread, and of the process's CPU time): stepping
 /// its strands, waiting for every rank's step (agree: the other ranks' longer steps), the
@@ -81,10 +73,10 @@ struct SimulationTimings
 std::vector<int> shareStrands(const std::vector<GuideStrand>& guides, const StrandModel& model,
                               int ranks);
 /// Refuses a run whose model and first frame would need more than three quarters of
-/// `availableBytes`, with the figures (the model's memory per element as measured, the
-/// frame's points), before anything is allocated: Hair Strands allows 10^5 strands of 100
-/// elements, about 26 GB for the Super-Helix model alone. Simulation::initialize calls it
-/// with this machine's memory.
+/// `availableBytes`, with the figures (the model's memory per element as measured,
+/// StrandModel::bytesPerElement, the frame's points), before anything is allocated: Hair Strands
+/// allows 10^5 strands of 100 elements, about 26 GB for the Super-Helix model alone.
+/// Simulation::initialize calls it with this machine's memory.
 Status checkRunMemory(const std::vector<GuideStrand>& strands, const SimulationOptions& options,
                       double availableBytes);
 

@@ -575,6 +575,24 @@ std::map<std::string, double> SuperHelixModel::stepStatistics() const
           {"error_estimate", error}};
 }
 
+std::vector<StepStatisticRule> SuperHelixModel::stepStatisticRules() const
+{
+  // Means over the strands, the share of first-order steps weighted by its sub-steps, the
+  // largest error estimate.
+  using R = StepStatisticRule::Reduction;
+  return {{"substeps", R::StrandMean, ""},
+          {"rejected_substeps", R::StrandMean, ""},
+          {"first_order_share", R::StrandMean, "substeps"},
+          {"error_estimate", R::Max, ""}};
+}
+
+double SuperHelixModel::bytesPerElement() const
+{
+  // Measured with hair_study scene (200 and 400 wavy strands of 10, 50 and 100 elements, two
+  // frames, maximum resident memory): about 2.6 kB per element.
+  return 2600;
+}
+
 void SuperHelixModel::describe(StateHeader& header) const
 {
   const int n = Helices.empty() ? 0 : Helices[0].elementCount();

@@ -7,6 +7,7 @@
 #include "contact/HairHairContacts.h"
 #include "contact/NearField.h"
 #include "model/GroomReport.h"
+#include "model/GuideDrawing.h"
 #include "model/StrandModel.h"
 #include "superhelix/Quadrature.h"
 #include "superhelix/SuperHelix.h"
@@ -106,6 +107,8 @@ public:
   /// over the strands of the sum of their steps' error estimates
   /// (SuperHelix::lastErrorEstimate).
   std::map<std::string, double> stepStatistics() const override;
+  std::vector<StepStatisticRule> stepStatisticRules() const override;
+  double bytesPerElement() const override;
   std::string continuationRefusal() const override;
   std::size_t continuationCapacity(std::size_t k) const override;
   void saveContinuation(StateContinuation& out) const override;
@@ -169,5 +172,12 @@ private:
   /// strand, so that which strand came first (under MPI: on which rank) changed every dt.
   double Time = 0;
 };
+
+/// The model's drawer (simulation/ModelRegistry.cxx, model/GuideDrawing.h): the strands drawn
+/// again from q, q̇ and the root at `pointsPerElement` points per element (0: as stored),
+/// curvature and twist those of the element a point starts, the other per-point scalars
+/// interpolated linearly in arc length between the stored points.
+Status drawSuperHelixFrame(const StateHeader& header, const StateFrame& frame, int pointsPerElement,
+                           int threads, GuideDrawing& out);
 
 } // namespace hair

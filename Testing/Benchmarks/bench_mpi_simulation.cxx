@@ -103,7 +103,8 @@ int main(int argc, char** argv)
   const SimulationTimings& t = sim.timings();
   const double n = t.frames - before.frames;
   double cost = 0;
-  const std::unique_ptr<StrandModel> model = makeModel(o);
+  std::unique_ptr<StrandModel> model;
+  (void)makeModel(o, model); // the run above was made with it
   const StateHeader& piece = sim.piece();
   for (std::size_t k = 0; k < piece.numberOfStrands(); ++k)
   {

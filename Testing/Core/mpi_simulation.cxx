@@ -695,6 +695,39 @@ TEST(StepStatistics, TheEnergyTablesStatisticsAreTheWholeRuns)
   EXPECT_TRUE(varied);
 }
 
+TEST(StepStatistics, EachRuleReducesItsStatisticAsItSays)
+{
+  // Rank r holds r + 1 strands and reports a = r, b = 2 r + 1, c = 10 − r, d = r (no rule):
+  // the whole run's mean of a over the strands, Σ(r (r + 1)) / Σ(r + 1); of c weighted by b,
+  // Σ(c b (r + 1)) / Σ(b (r + 1)); the largest b; the sum of a; d as a mean like a.
+  const Ranks world(MPI_COMM_WORLD);
+  if (world.size() < 2)
+  {
+    GTEST_SKIP() << "needs 2 ranks";
+  }
+  using R = StepStatisticRule::Reduction;
+  const std::vector<StepStatisticRule> rules = {
+      {"a", R::StrandMean, ""}, {"c", R::StrandMean, "b"}, {"b", R::Max, ""}, {"e", R::Sum, ""}};
+  const double r = world.rank();
+  std::map<std::string, double> v = {{"a", r}, {"b", 2 * r + 1}, {"c", 10 - r}, {"d", r}, {"e", r}};
+  reduceStepStatistics(v, rules, r + 1, world);
+  double na = 0, da = 0, nc = 0, dc = 0, e = 0;
+  for (int k = 0; k < world.size(); ++k)
+  {
+    na += k * (k + 1.0);
+    da += k + 1.0;
+    nc += (10.0 - k) * (2.0 * k + 1) * (k + 1.0);
+    dc += (2.0 * k + 1) * (k + 1.0);
+    e += k;
+  }
+  // Sums of a few small integers: exact in double.
+  EXPECT_EQ(v["a"], na / da);
+  EXPECT_EQ(v["d"], na / da);
+  EXPECT_EQ(v["c"], nc / dc);
+  EXPECT_EQ(v["b"], 2.0 * (world.size() - 1) + 1);
+  EXPECT_EQ(v["e"], e);
+}
+
 TEST(MoreRanksThanStrands, ThreeStrandsOrOneOnFourRanks)
 {
   if (worldSize() < 4)
@@ -766,7 +799,9 @@ TEST(Failures, AStrandThatBlowsUpOnOneRankStopsEveryRank)
   storage.frames = 30;
   Simulation sim;
   ASSERT_TRUE(sim.initialize(guides, demoScene(body()), o, storage).ok());
-  const std::vector<int> owner = shareStrands(guides, *makeModel(o), world.size());
+  std::unique_ptr<StrandModel> model;
+  ASSERT_TRUE(makeModel(o, model).ok());
+  const std::vector<int> owner = shareStrands(guides, *model, world.size());
   const Status s = sim.advanceTo(30);
   ASSERT_FALSE(s.ok());
   // Every rank stops, with the message of the rank that has strand 5.

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 
 using namespace hair;
@@ -241,6 +242,53 @@ INSTANTIATE_TEST_SUITE_P(BothModels, SimulationModels,
                          [](const auto& info) {
                            return info.param == ModelType::SuperHelix ? "SuperHelix" : "Projective";
                          });
+
+TEST(ModelRegistry, EveryModelHasOneEntryAndAnUnregisteredOneIsRefused)
+{
+  std::set<std::string> names;
+  std::set<int> values;
+  for (const ModelEntry& e : registeredModels())
+  {
+    EXPECT_TRUE(names.insert(e.name).second) << e.name;
+    EXPECT_TRUE(values.insert(int(e.type)).second) << e.name;
+    EXPECT_EQ(findModel(e.type), &e);
+    EXPECT_EQ(findModel(std::string(e.name)), &e);
+    SimulationOptions o;
+    o.model = e.type;
+    std::unique_ptr<StrandModel> model;
+    ASSERT_TRUE(makeModel(o, model).ok());
+    // The file's model attribute is the registered name, which the reader draws it by.
+    EXPECT_EQ(std::string(model->name()), e.name);
+    EXPECT_GT(model->bytesPerElement(), 0);
+    ModelType parsed;
+    EXPECT_TRUE(parseModel(e.label, "model=", parsed).ok());
+    EXPECT_EQ(parsed, e.type);
+  }
+  ModelType parsed;
+  const Status unknown = parseModel("elastica", "model=", parsed);
+  EXPECT_NE(unknown.message().find("model=elastica"), std::string::npos);
+  EXPECT_NE(unknown.message().find(modelNames()), std::string::npos);
+
+  SimulationOptions o;
+  o.model = ModelType(97);
+  Simulation sim;
+  const Status s = sim.initialize(guides(1, 4), {}, o);
+  EXPECT_NE(s.message().find("model 97 is not a registered model"), std::string::npos)
+      << s.message();
+  EXPECT_NE(s.message().find(registeredModels()[0].name), std::string::npos) << s.message();
+  EXPECT_EQ(sim.numberOfFrames(), 0);
+
+  // A file of a model no one registered is shown as stored, saying which are.
+  Simulation run;
+  ASSERT_TRUE(run.initialize(guides(1, 4), {}, SimulationOptions()).ok());
+  StateHeader h = run.header();
+  h.model = "elastica";
+  GuideDrawing drawn;
+  ASSERT_TRUE(drawGuides(h, run.frame(0), 4, 1, drawn).ok());
+  EXPECT_NE(drawn.warning.find("'elastica' is not one this HairDynamics draws"), std::string::npos);
+  EXPECT_EQ(drawn.frame.positions, run.frame(0).positions);
+  EXPECT_TRUE(drawn.tangents.empty());
+}
 
 TEST(Simulation, BadInputIsRefused)
 {
