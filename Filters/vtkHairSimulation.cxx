@@ -408,15 +408,14 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   // IntegratorType's values are hair::Integrator's.
   sh.integrator = static_cast<hair::Integrator>(this->Integrator);
   sh.tolerance = this->Tolerance;
-  sh.contacts.enabled = this->Contacts;
-  sh.contacts.stiffness = this->ContactStiffness;
-  sh.contacts.dampingRatio = this->ContactDamping;
-  sh.contacts.friction = this->FrictionCoefficient;
-  sh.contacts.anisotropy = this->FrictionAnisotropy;
-  sh.contacts.staticFriction = this->StaticFrictionCoefficient;
-  sh.contacts.thickness = this->ContactThickness;
-  sh.contacts.slipVelocity = this->SlipVelocity;
-  o.shareBodyFriction();
+  o.contacts.enabled = this->Contacts;
+  o.contacts.stiffness = this->ContactStiffness;
+  o.contacts.dampingRatio = this->ContactDamping;
+  o.contacts.friction = this->FrictionCoefficient;
+  o.contacts.anisotropy = this->FrictionAnisotropy;
+  o.contacts.staticFriction = this->StaticFrictionCoefficient;
+  o.contacts.thickness = this->ContactThickness;
+  o.contacts.slipVelocity = this->SlipVelocity;
   sh.hairHairEnabled = this->HairHairContacts != HAIR_HAIR_OFF;
   if (sh.hairHairEnabled)
   {

@@ -128,8 +128,7 @@ struct Run
 /// Static friction μ_s for both models, as Hair Simulation sets it.
 void setStaticFriction(SimulationOptions& o, double muStatic)
 {
-  o.superHelix.contacts.staticFriction = muStatic;
-  o.shareBodyFriction();
+  o.contacts.staticFriction = muStatic;
 }
 
 /// A run of `frames` frames from `guides` in `scene`; the distance from `groom` measured on

@@ -410,7 +410,6 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
   o.timeStep = c.step;
   o.frameInterval = c.interval;
   o.threads = c.threads;
-  o.shareBodyFriction(); // as Hair Simulation does: one friction law for both models
   o.superHelix.hairHairEnabled = c.hairHair; // the projective model has no hair–hair contacts
   StorageOptions storage;
   storage.stateFile = file;

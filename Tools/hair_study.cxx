@@ -1258,7 +1258,7 @@ int integrator(const Arguments& args)
         o.threads = 1;
         o.superHelix.integrator = in;
         o.superHelix.tolerance = tol;
-        o.superHelix.contacts.enabled = contacts != 0;
+        o.contacts.enabled = contacts != 0;
         Simulation sim;
         if (st = sim.initialize(demoStrands, demoScene(body), o); !st)
           return fail(st);
@@ -1520,7 +1520,7 @@ Status runAccuracyScene(const BundledBody& body, const std::vector<GuideStrand>&
   SimulationOptions o;
   o.threads = threads;
   o.timeStep = o.frameInterval / perFrame;
-  o.superHelix.contacts.enabled = bodyContacts;
+  o.contacts.enabled = bodyContacts;
   o.superHelix.hairHairEnabled = grid;
   o.superHelix.integrator = integrator;
   o.superHelix.tolerance = tolerance;
@@ -1852,7 +1852,7 @@ int hairhair(const Arguments& args)
     }
     SimulationOptions o;
     o.threads = threads;
-    o.superHelix.contacts.enabled = bodyContacts == 1;
+    o.contacts.enabled = bodyContacts == 1;
     o.superHelix.hairHairEnabled = withContacts == 1;
     o.superHelix.hairHair = p;
     o.superHelix.hairHairSolver = solvers.at(solverName);

@@ -15,13 +15,22 @@ namespace
 std::unique_ptr<StrandModel> makeSuperHelix(const SimulationOptions& options)
 {
   SuperHelixOptions superHelix = options.superHelix;
+  superHelix.contacts = options.contacts;
   superHelix.sagFree = options.sagFree;
   return std::make_unique<SuperHelixModel>(superHelix);
 }
 
 std::unique_ptr<StrandModel> makeProjective(const SimulationOptions& options)
 {
-  return std::make_unique<ProjectiveModel>(options.projective, options.sagFree);
+  // The body's friction law (SimulationOptions::contacts): Coulomb's with static friction,
+  // the only one the projective model has, on when μ_s > 0.
+  ProjectiveOptions projective = options.projective;
+  const BodyContactParameters& c = options.contacts;
+  const bool on = c.staticFriction > 0;
+  projective.friction = on ? c.friction : 0.0;
+  projective.staticFriction = on ? c.staticFriction : 0.0;
+  projective.anisotropy = c.anisotropy;
+  return std::make_unique<ProjectiveModel>(projective, options.sagFree);
 }
 
 std::string lower(std::string s)

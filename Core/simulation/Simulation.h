@@ -33,23 +33,16 @@ struct SimulationOptions
   /// The MPI ranks the strands are shared among (Simulation: by their roots, balanced by
   /// each strand's step cost); one (the default): this process steps every strand.
   Ranks ranks;
-  SuperHelixOptions superHelix; ///< read by the Super-Helix model only
+  /// The body's contact law, the one a user gives for every model: the Super-Helix's penalty
+  /// and friction (docs/superhelix-contacts.md); the projective model takes its friction from
+  /// it (Coulomb's law with static friction only: on with μ, μ_s and the anisotropy when
+  /// μ_s > 0, off otherwise; its normal response is its own reaction constraint).
+  BodyContactParameters contacts;
+  SuperHelixOptions superHelix; ///< read by the Super-Helix model only (not its contacts)
   ProjectiveOptions projective; ///< read by the projective model only (not its step, threads)
   SagFreeOptions sagFree;       ///< for guides whose rest shape is sag-free, either model
 
   RunSettings run() const { return {timeStep, frameInterval, threads, {}, ranks}; }
-  /// The projective model's friction from the body contacts' law (superHelix.contacts), the
-  /// one set of friction coefficients a user gives: the projective model has Coulomb's law
-  /// with static friction only (no regularized law), so it is on, with μ, μ_s and the
-  /// anisotropy, when μ_s > 0, and off otherwise.
-  void shareBodyFriction()
-  {
-    const BodyContactParameters& c = superHelix.contacts;
-    const bool on = c.staticFriction > 0;
-    projective.friction = on ? c.friction : 0.0;
-    projective.staticFriction = on ? c.staticFriction : 0.0;
-    projective.anisotropy = c.anisotropy;
-  }
 };
 
 /// Where a run's time went on this rank, summed over the frames computed by advanceTo

@@ -53,8 +53,8 @@ struct SuperHelixOptions
   /// sub-steps are common to all strands, each sized from the previous one's largest
   /// estimate and none taken again (docs/hair-hair-contacts.md).
   double tolerance = 0;
-  /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md).
-  /// `lookAhead` is set to the time step by the model.
+  /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md); a run sets
+  /// it from SimulationOptions::contacts. `lookAhead` is set to the time step by the model.
   BodyContactParameters contacts;
   /// Hair–hair interaction between the guides (docs/hair-hair-interaction.md), by
   /// `hairHairSolver`: the grid's volume and friction (the default), with the near field's

@@ -53,7 +53,7 @@ void BM_Frame(benchmark::State& state)
   }
   SimulationOptions o;
   o.threads = threads;
-  o.superHelix.contacts.enabled = true;
+  o.contacts.enabled = true;
   o.superHelix.hairHairEnabled = mode != 0;
   if (mode != 0)
     o.superHelix.hairHairSolver = static_cast<HairHairSolver>(mode);
@@ -114,7 +114,7 @@ const TwoFrames& twoFrames(int count)
   f.status = demoGuides(body(), count, 10, guides);
   SimulationOptions o;
   o.threads = 2;
-  o.superHelix.contacts.enabled = true;
+  o.contacts.enabled = true;
   o.superHelix.hairHairEnabled = false;
   Simulation sim;
   if (f.status)

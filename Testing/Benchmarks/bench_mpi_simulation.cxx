@@ -68,7 +68,7 @@ int main(int argc, char** argv)
   SimulationOptions o;
   o.threads = threads;
   o.ranks = world;
-  o.superHelix.contacts.enabled = true;
+  o.contacts.enabled = true;
   o.superHelix.hairHairEnabled = !noGrid;
   StorageOptions storage;
   storage.stateFile = state == "-" ? "" : state;

@@ -279,7 +279,7 @@ SimulationOptions optionsFor(ModelType model)
 {
   SimulationOptions o;
   o.model = model;
-  o.superHelix.contacts.enabled = true;
+  o.contacts.enabled = true;
   return o;
 }
 } // namespace
@@ -522,7 +522,7 @@ TEST(Resume, ARunStoppedAtRandomFramesGoesOnBitForBitOnTheSameRanks)
   const FirstRanks all = firstRanks(worldSize());
   const std::vector<GuideStrand> guides = mixedGuides(24, 8);
   SimulationOptions o = optionsFor(ModelType::SuperHelix);
-  o.superHelix.contacts.staticFriction = 0.4;
+  o.contacts.staticFriction = 0.4;
   const int frames = 14;
   const Outcome whole = run(guides, o, all.ranks, frames, temp("resume_whole.h5"));
   ASSERT_TRUE(whole.status.ok()) << whole.status.message();

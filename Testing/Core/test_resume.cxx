@@ -65,7 +65,7 @@ Case superHelix(double tolerance = 0)
   Case c;
   c.name = tolerance > 0 ? "super-helix-tolerance" : "super-helix";
   c.options.model = ModelType::SuperHelix;
-  c.options.superHelix.contacts.staticFriction = 0.4;
+  c.options.contacts.staticFriction = 0.4;
   c.options.superHelix.tolerance = tolerance;
   c.options.threads = 2;
   c.strands = guides(tolerance > 0 ? 12 : 24, 10);
@@ -79,8 +79,7 @@ Case projective()
   Case c;
   c.name = "projective";
   c.options.model = ModelType::Projective;
-  c.options.superHelix.contacts.staticFriction = 0.4;
-  c.options.shareBodyFriction();
+  c.options.contacts.staticFriction = 0.4;
   c.options.threads = 2;
   c.strands = guides(16, 20);
   c.frames = 24;
@@ -342,7 +341,7 @@ TEST(Resume, AChangedParameterIsRefusedByName)
   const std::string file = temp("changed.h5");
   ASSERT_TRUE(runTo(c, file, 4).ok());
   Case stiffer = c;
-  stiffer.options.superHelix.contacts.stiffness *= 2;
+  stiffer.options.contacts.stiffness *= 2;
   EXPECT_NE(refusal(stiffer, file).find("'contact_stiffness' is 10 in the file and 20 in this run"),
             std::string::npos)
       << refusal(stiffer, file);

@@ -800,7 +800,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
     {
       SCOPED_TRACE(toString(integrator));
       SimulationOptions o;
-      o.superHelix.contacts.enabled = enabled;
+      o.contacts.enabled = enabled;
       o.superHelix.integrator = integrator;
       Simulation sim;
       double R = 0;
@@ -818,7 +818,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
         EXPECT_EQ(sim.contacts().back(), 0);
         EXPECT_EQ(deepest, 0.0);
         EXPECT_NE(f.energy.at("contact_work"), 0.0);
-        EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.superHelix.contacts.stiffness);
+        EXPECT_EQ(sim.header().attributes.at("contact_stiffness"), o.contacts.stiffness);
       }
       else
       {
@@ -833,7 +833,7 @@ TEST(SimulationBodyContacts, SuperHelixStrandsRestOnTheScenesParts)
 TEST(SimulationBodyContacts, BadContactParametersAreRefused)
 {
   SimulationOptions o;
-  o.superHelix.contacts.friction = -1;
+  o.contacts.friction = -1;
   Simulation sim;
   double R = 0;
   const Status st = sphereScene(o, sim, R);

@@ -164,7 +164,7 @@ Status demoScene(bool contacts, std::vector<FrameStats>& stats, double& seconds)
   const Scene scene = demoScene(b);
   SimulationOptions o;
   o.threads = 2;
-  o.superHelix.contacts.enabled = contacts;
+  o.contacts.enabled = contacts;
   Simulation sim;
   if (Status s = sim.initialize(guides, scene, o); !s)
     return s;
