@@ -462,11 +462,11 @@ Status DerRod::solveStep(double h, Eigen::VectorXd& q, Step& s, int& iterations)
     double mu = 0;
     const double scale = H.diagonal().cwiseAbs().maxCoeff();
     bool descent = false;
-    for (int attempt = 0; attempt < 16 && !descent; ++attempt)
+    for (int attempt = 0; attempt < 30 && !descent; ++attempt)
     {
       if (attempt > 0)
       {
-        const double next = attempt == 1 ? 1e-10 * scale : 100 * mu;
+        const double next = attempt == 1 ? 1e-14 * scale : 4 * mu;
         for (int i = 0; i < n; ++i)
           H.coeffRef(i, i) += next - mu;
         mu = next;

@@ -377,3 +377,193 @@ TEST(DerRod, RefusesBadInput)
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.message().find("numbers"), std::string::npos) << st.message();
 }
+
+namespace
+{
+// ∫₀ᵘ exp(s[Ω]×) ds e_x in closed form (Rodrigues; [Ω]׳ = −|Ω|² [Ω]×).
+Eigen::Vector3d helixChord(const Eigen::Vector3d& omega, double u)
+{
+  Eigen::Matrix3d K;
+  K << 0, -omega.z(), omega.y(), omega.z(), 0, -omega.x(), -omega.y(), omega.x(), 0;
+  const double w = omega.norm(), x = w * u;
+  const Eigen::Matrix3d G = u * Eigen::Matrix3d::Identity() + (1 - std::cos(x)) / (w * w) * K +
+                            (x - std::sin(x)) / (w * w * w) * K * K;
+  return G * Eigen::Vector3d::UnitX();
+}
+} // namespace
+
+// 4. A natural helix at rest: without gravity, a curly strand (its natural (τ, κ1, κ2), no
+// variation) released from straight relaxes to the helix of Darboux vector
+// τ n0 + κ1 n1 + κ2 n2 through the clamped root frame: frame(u) = R0 exp(u[Ω]×),
+// r(u) = r0 + R0 ∫₀ᵘ exp(s[Ω]×) e_x ds, computed here in closed form, with the clamp at the
+// middle of edge 0 (r0 = x_0 + h/2 t_0, node k at u = (k − ½) h). This also fixes the
+// signs: κ1 is the Darboux vector's component on n1 = m1, as the Super-Helix's q.
+// Tolerances: order 2 ± 0.25 (rest strains l̄ κⁿ are second-order accurate), all nodes
+// within 2e-3 of the helix radius at N = 80.
+TEST(DerRod, NaturalHelixConverges)
+{
+  HairParameters hair = HairParameters::preset(HairType::Curly);
+  hair.curvatureVariation = 0;
+  const Eigen::Vector3d omega = hair.naturalCurvature();
+  const double L = 0.03;
+  std::printf("natural helix: curly, (tau, k1, k2) = (%.2f, %.2f, %.2f) /m, L = %.3f m (%.2f "
+              "turns)\n",
+              omega[0], omega[1], omega[2], L, omega.norm() * L / (2 * M_PI));
+  std::vector<int> ns = {10, 20, 40, 80};
+  std::vector<double> err;
+  for (int n : ns)
+  {
+    DerSpec spec = DerSpec::uniform(L, n, hair);
+    spec.gravity.setZero();
+    spec.solver.maxIterations = 500;
+    DerRod rod;
+    ASSERT_TRUE(rod.initialize(spec).ok());
+    relax(rod, 1e3, 10);
+    const double h = L / n;
+    double e = 0;
+    for (int k = 1; k <= n; ++k)
+    {
+      const Eigen::Vector3d ref = Eigen::Vector3d(h / 2, 0, 0) + helixChord(omega, (k - 0.5) * h);
+      e = std::max(e, (rod.position(k) - ref).norm());
+    }
+    err.push_back(e);
+    std::printf("  N = %3d: largest node error %.3e m, elastic energy left %.2e J, strains at "
+                "the middle (%.4f, %.4f, %.4f) rest (%.4f, %.4f, %.4f)\n",
+                n, e, rod.energy().elastic, rod.strains(n / 2)[0], rod.strains(n / 2)[1],
+                rod.strains(n / 2)[2], rod.restStrains(n / 2)[0], rod.restStrains(n / 2)[1],
+                rod.restStrains(n / 2)[2]);
+  }
+  const double p = order(ns, err);
+  std::printf("  order %.3f\n", p);
+  RecordProperty("order", std::to_string(p));
+  EXPECT_NEAR(p, 2, 0.25);
+  EXPECT_LT(err.back(), 2e-3 * hair.helixRadius);
+}
+
+namespace
+{
+struct BudgetRun
+{
+  double residual = 0, largestFlow = 0, closure = 0;
+  DerEnergyReport report;
+};
+
+// Runs `duration` in steps of h and checks the bookkeeping: the totals' budget against the
+// state energies' change.
+BudgetRun budgetRun(const DerSpec& spec, double h, double duration)
+{
+  DerRod rod;
+  BudgetRun r;
+  EXPECT_TRUE(rod.initialize(spec).ok());
+  const double e0 = rod.energy().mechanical();
+  const int steps = static_cast<int>(std::lround(duration / h));
+  for (int i = 0; i < steps; ++i)
+  {
+    const Status st = rod.step(h);
+    EXPECT_TRUE(st.ok()) << st.message();
+    if (!st)
+      return r;
+    EXPECT_GE(rod.energy().lastStep.frictionDissipated, 0);
+    EXPECT_GE(rod.energy().lastStep.airDissipated, 0);
+  }
+  const DerEnergyTerms& t = rod.energy().total;
+  r.report = rod.energy();
+  r.residual = t.residual;
+  r.closure = rod.energy().mechanical() - e0 -
+              (t.rootWork + t.windWork + t.contactWork + t.loadWork - t.frictionDissipated -
+               t.airDissipated + t.residual);
+  r.largestFlow = std::max({std::abs(t.rootWork), std::abs(t.windWork), t.frictionDissipated,
+                            t.airDissipated, std::abs(rod.energy().mechanical() - e0)});
+  return r;
+}
+
+DerSpec shakenSpec(bool dissipation)
+{
+  HairParameters hair =
+      dissipation ? HairParameters::preset(HairType::Wavy) : HairParameters::roundStraight();
+  if (!dissipation)
+    hair.internalFriction = hair.airFriction = 0;
+  DerSpec spec = DerSpec::uniform(0.05, 10, hair);
+  if (dissipation)
+  {
+    spec.wind = Eigen::Vector3d(0, 0, -0.5);
+    spec.root = RigidMotion::shake(Eigen::Vector3d(0, 0, -0.05), Eigen::Vector3d::UnitY(), 0.3, 2)
+                    .carriedRoot(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+  }
+  return spec;
+}
+} // namespace
+
+// 6. The energy budget: its totals close against the state energies to round-off (1e-12 of
+// the largest flow: the bookkeeping), every dissipation is >= 0, and the residual, what
+// backward Euler itself dissipates, falls at first order in h (its local error is O(h²)):
+// with gravity, a shaken root, wind, drag and internal friction, and with none of the
+// dissipations (a strand released horizontally). Tolerance on the order: 1 ± 0.25.
+TEST(DerRod, EnergyBudgetClosesAndResidualIsFirstOrder)
+{
+  const double duration = 0.1;
+  for (bool dissipation : {true, false})
+  {
+    std::vector<int> inv = {1000, 2000, 4000};
+    std::vector<double> res;
+    for (int k : inv)
+    {
+      const BudgetRun r = budgetRun(shakenSpec(dissipation), 1.0 / k, duration);
+      const DerEnergyTerms& t = r.report.total;
+      res.push_back(std::abs(r.residual));
+      std::printf("budget %s, h = 1/%d s: residual %.3e J; root %.3e, wind %.3e, friction "
+                  "%.3e, air %.3e J; closure %.1e J\n",
+                  dissipation ? "with shake, wind, drag, friction" : "released, no dissipation", k,
+                  r.residual, t.rootWork, t.windWork, t.frictionDissipated, t.airDissipated,
+                  r.closure);
+      EXPECT_LT(std::abs(r.closure), 1e-12 * r.largestFlow);
+      EXPECT_LT(r.residual, 0) << "backward Euler dissipates";
+    }
+    const double p = order(inv, res);
+    std::printf("  residual order %.3f\n", p);
+    EXPECT_NEAR(p, 1, 0.25);
+  }
+}
+
+// 7. Restart: a run stopped at a step, saved, restored into a fresh strand initialized from
+// the same spec, goes on exactly (==) as the run that never stopped: every coordinate,
+// rate and energy term of every later step.
+TEST(DerRod, RestoredRunContinuesBitForBit)
+{
+  HairParameters hair = HairParameters::preset(HairType::Curly); // variation 0.05, friction
+  DerSpec spec = DerSpec::uniform(0.05, 12, hair);
+  spec.seed = 11;
+  spec.solver.maxIterations = 200; // released straight, the curly strand curls violently
+  spec.wind = Eigen::Vector3d(0.2, 0, -0.5);
+  spec.root = RigidMotion::shake(Eigen::Vector3d(0, 0, -0.05), Eigen::Vector3d::UnitY(), 0.4, 3)
+                  .carriedRoot(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+  DerRod a;
+  ASSERT_TRUE(a.initialize(spec).ok());
+  const double h = 1.0 / 300;
+  for (int i = 0; i < 30; ++i)
+  {
+    const Status st = a.step(h);
+    ASSERT_TRUE(st.ok()) << st.message();
+  }
+  std::vector<double> saved;
+  a.saveState(saved);
+  DerRod b;
+  ASSERT_TRUE(b.initialize(spec).ok());
+  ASSERT_TRUE(b.restoreState(saved).ok());
+  for (int i = 0; i < 30; ++i)
+  {
+    ASSERT_TRUE(a.step(h).ok());
+    ASSERT_TRUE(b.step(h).ok());
+    ASSERT_EQ(a.time(), b.time());
+    ASSERT_TRUE(a.coordinates() == b.coordinates()) << "step " << i;
+    ASSERT_TRUE(a.rates() == b.rates()) << "step " << i;
+    ASSERT_EQ(a.lastIterations(), b.lastIterations());
+    std::vector<double> sa, sb;
+    a.saveState(sa);
+    b.saveState(sb);
+    ASSERT_TRUE(sa == sb) << "step " << i;
+  }
+  std::printf("restart: 30 steps after the restore equal bit for bit; Newton iterations of the "
+              "last step %d, tip at (%.5f, %.5f, %.5f) m\n",
+              a.lastIterations(), a.position(12).x(), a.position(12).y(), a.position(12).z());
+}
