@@ -567,3 +567,61 @@ TEST(DerRod, RestoredRunContinuesBitForBit)
               "last step %d, tip at (%.5f, %.5f, %.5f) m\n",
               a.lastIterations(), a.position(12).x(), a.position(12).y(), a.position(12).z());
 }
+
+// Contacts through the hook: a floor 5 mm below a horizontal strand (a penalty of stiffness
+// k along its normal, K = k n nᵀ, damping D = d n nᵀ, all implicit) and a far field (drag
+// towards a medium moving along z, a spring). The strand settles on the floor: its lowest
+// node within twice the penalty's penetration under the whole weight on one node (the
+// reaction concentrates where the strand lands);
+// the budget's totals close (1e-12), the far field's dissipation is ≥ 0 and within its work.
+TEST(DerRod, ContactHookActsImplicitly)
+{
+  DerSpec spec = DerSpec::uniform(0.05, 10, HairParameters::roundStraight());
+  const double floorY = -0.005, k = 50, d = 0.05;
+  DerRod rod;
+  ASSERT_TRUE(rod.initialize(spec).ok());
+  int calls = 0;
+  rod.setContactForces(
+      [&](int, double, const std::vector<StrandSample>& samples, std::vector<ContactResponse>& out)
+      {
+        ++calls;
+        EXPECT_EQ(samples.size(), 11u);
+        for (std::size_t i = 0; i < samples.size(); ++i)
+        {
+          const double depth = floorY - samples[i].position.y();
+          if (depth > 0)
+          {
+            out[i].force = Eigen::Vector3d(0, k * depth, 0);
+            out[i].stiffness = k * Eigen::Vector3d::UnitY() * Eigen::Vector3d::UnitY().transpose();
+            out[i].damping = d * Eigen::Vector3d::UnitY() * Eigen::Vector3d::UnitY().transpose();
+          }
+          out[i].drag = 1e-5;
+          out[i].medium = Eigen::Vector3d(0, 0, 0.01);
+          out[i].spring = 1e-4;
+        }
+      });
+  const double e0 = rod.energy().mechanical();
+  const double h = 1.0 / 500;
+  for (int i = 0; i < 500; ++i)
+  {
+    const Status st = rod.step(h);
+    ASSERT_TRUE(st.ok()) << st.message();
+  }
+  EXPECT_EQ(calls, 500);
+  double lowest = 0;
+  for (int i = 0; i <= 10; ++i)
+    lowest = std::min(lowest, rod.position(i).y());
+  // The penetration with the strand's whole weight on one node of Voronoi length 5 mm.
+  const double sag = spec.hair.linearDensity() * 9.81 * 0.05 / (k * 0.005);
+  const DerEnergyTerms& t = rod.energy().total;
+  const double closure = rod.energy().mechanical() - e0 -
+                         (t.rootWork + t.windWork + t.contactWork + t.loadWork -
+                          t.frictionDissipated - t.airDissipated + t.residual);
+  std::printf("contact: lowest node %.4e m (floor %.4e, penetration bound %.2e m); contact "
+              "work %.3e J, of it far field %.3e J, far field dissipated %.3e J; closure %.1e J\n",
+              lowest, floorY, sag, t.contactWork, t.fieldWork, t.fieldDissipated, closure);
+  EXPECT_GT(lowest, floorY - 2 * sag);
+  EXPECT_LT(lowest, floorY + 1e-3) << "the strand reached the floor";
+  EXPECT_GE(t.fieldDissipated, 0);
+  EXPECT_LT(std::abs(closure), 1e-12 * std::abs(rod.energy().mechanical() - e0));
+}
