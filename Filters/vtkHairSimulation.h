@@ -33,13 +33,6 @@ public:
   void AddColliderConnection(vtkAlgorithmOutput* output) { this->AddInputConnection(1, output); }
   void RemoveAllColliders() { this->SetInputConnection(1, nullptr); }
 
-  /// Model's values: those of Core's model registry (simulation/ModelRegistry.h), which the
-  /// filter checks; any other is refused with the registered ones when the filter runs.
-  enum ModelType
-  {
-    SUPER_HELIX = 0,
-    PROJECTIVE = 1
-  };
   enum MotionType
   {
     NONE = 0,
@@ -48,6 +41,9 @@ public:
     VERTICAL = 3
   };
 
+  /// A model's value in Core's model registry (simulation/ModelRegistry.h: 0 Super-Helix,
+  /// 1 projective, 2 Discrete Elastic Rods); any other is refused, with the registered ones,
+  /// when the filter runs.
   vtkSetMacro(Model, int);
   vtkGetMacro(Model, int);
   vtkSetMacro(TimeStep, double);
@@ -189,7 +185,7 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Model = SUPER_HELIX;
+  int Model = 0;
   double TimeStep = 1.0 / 30;
   double Duration = 5;
   double FrameRate = 30;

@@ -582,8 +582,22 @@ Status DerRod::step(double h)
         return Status::Error(where(t0, t1) + "the contact hook gave a non-finite response.");
   }
 
-  // The clamp at t1: x_0, x_1 and θ_0 (m1_0 = R e_y against the transported director).
+  // Newton starts from the strand carried rigidly by the root's motion over the step, each
+  // node moving on at its velocity relative to the root: a node at rest on a turning head
+  // starts where the head takes it, not an edge's stretch behind (from qⁿ a shaken strand's
+  // step took more than 50 iterations; from here 25–30).
   Eigen::VectorXd q = Q;
+  {
+    const RootState before = rootState(t0);
+    const Eigen::Matrix3d turn = root.orientation * before.orientation.transpose();
+    for (int k = 2; k <= n; ++k)
+    {
+      const Eigen::Vector3d x = Q.segment<3>(4 * k), arm = x - before.position;
+      const Eigen::Vector3d carried = before.velocity + before.angularVelocity.cross(arm);
+      q.segment<3>(4 * k) = root.position + turn * arm + h * (V.segment<3>(4 * k) - carried);
+    }
+  }
+  // The clamp at t1: x_0, x_1 and θ_0 (m1_0 = R e_y against the transported director).
   const Eigen::Vector3d t = root.orientation.col(0);
   if (Tangents.col(0).dot(t) < -1 + 1e-12)
     return Status::Error(where(t0, t1) + "the root turned by 180° within the step; take a "

@@ -33,7 +33,7 @@ struct DerSolverOptions
   /// … or when the gradient of the incremental potential (free unknowns, max norm) has
   /// fallen to this fraction of its value at the step's start.
   double gradientTolerance = 1e-10;
-  int maxIterations = 50;
+  int maxIterations = 150;
 };
 
 /// Everything that defines a strand before it moves.

@@ -1,5 +1,6 @@
 #include "simulation/ModelRegistry.h"
 
+#include "der/DerModel.h"
 #include "projective/ProjectiveModel.h"
 #include "simulation/Simulation.h"
 #include "superhelix/SuperHelixModel.h"
@@ -33,6 +34,11 @@ std::unique_ptr<StrandModel> makeProjective(const SimulationOptions& options)
   return std::make_unique<ProjectiveModel>(projective, options.sagFree);
 }
 
+std::unique_ptr<StrandModel> makeDer(const SimulationOptions& options)
+{
+  return std::make_unique<DerModel>(options.contacts);
+}
+
 std::string lower(std::string s)
 {
   std::transform(s.begin(), s.end(), s.begin(),
@@ -46,6 +52,8 @@ const std::vector<ModelEntry>& registeredModels()
   static const std::vector<ModelEntry> models = {
       {ModelType::SuperHelix, "super-helix", "Super-Helix", makeSuperHelix, drawSuperHelixFrame},
       {ModelType::Projective, "projective", "Projective", makeProjective, drawProjectiveFrame},
+      {ModelType::DiscreteElasticRods, "discrete-elastic-rods", "Discrete Elastic Rods", makeDer,
+       drawDerFrame},
   };
   return models;
 }

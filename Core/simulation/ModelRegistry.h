@@ -21,7 +21,9 @@ namespace hair
 enum class ModelType
 {
   SuperHelix = 0, ///< Bertails, Audoly, Cani et al. 2006
-  Projective = 1  ///< Kurihara, Anjyo and Thalmann 1993
+  Projective = 1, ///< Kurihara, Anjyo and Thalmann 1993
+  DiscreteElasticRods =
+      2 ///< Bergou, Wardetzky, Robinson, Audoly, Grinspun 2008; Bergou et al. 2010
 };
 
 struct SimulationOptions;

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -438,8 +439,13 @@ TEST_P(RankIndependence, OneTwoAndFourRanksGiveTheSameStrandsAndTheSameFile)
   }
   const ModelType model = GetParam();
   const std::vector<GuideStrand> guides = mixedGuides(24, 5);
+  SimulationOptions options = optionsFor(model);
+  // The discrete elastic rods without the body: on this head their Newton solve does not
+  // converge within a 64th of the step once a strand is thrown into the scalp
+  // (docs/discrete-elastic-rods.md, "What is missing"); the pieces are checked on their own.
+  options.contacts.enabled = model != ModelType::DiscreteElasticRods;
   const int frames = 10;
-  const char* name = model == ModelType::SuperHelix ? "sh" : "proj";
+  const char* name = findModel(model)->name;
   std::map<int, Outcome> runs, files;
   for (int n : {1, 2, 4})
   {
@@ -449,7 +455,7 @@ TEST_P(RankIndependence, OneTwoAndFourRanksGiveTheSameStrandsAndTheSameFile)
     // others waiting.
     if (sub.member)
     {
-      runs[n] = run(guides, optionsFor(model), sub.ranks, frames, file);
+      runs[n] = run(guides, options, sub.ranks, frames, file);
       EXPECT_TRUE(runs[n].status.ok()) << runs[n].status.message();
     }
     MPI_Barrier(MPI_COMM_WORLD);
@@ -619,10 +625,28 @@ TEST(Resume, ARunOfTwoRanksGoesOnOnThreeAndFour)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(BothModels, RankIndependence,
-                         ::testing::Values(ModelType::SuperHelix, ModelType::Projective),
-                         [](const auto& info) {
-                           return info.param == ModelType::SuperHelix ? "SuperHelix" : "Projective";
+std::vector<ModelType> everyModel()
+{
+  std::vector<ModelType> types;
+  for (const ModelEntry& e : registeredModels())
+  {
+    types.push_back(e.type);
+  }
+  return types;
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryModel, RankIndependence, ::testing::ValuesIn(everyModel()),
+                         [](const auto& info)
+                         {
+                           std::string name;
+                           for (const char* c = findModel(info.param)->label; *c; ++c)
+                           {
+                             if (std::isalnum(static_cast<unsigned char>(*c)))
+                             {
+                               name += *c;
+                             }
+                           }
+                           return name;
                          });
 
 TEST(StepStatistics, TheEnergyTablesStatisticsAreTheWholeRuns)

@@ -159,9 +159,29 @@ std::string difference(const std::string& a, const std::string& b)
   return {};
 }
 
+/// Discrete elastic rods on the same scene with static friction (anchors) and the halved
+/// steps of a Newton solve that does not converge (smooth and wavy guides: a curly guide
+/// curling from straight costs tens of Newton iterations a step).
+Case discreteElasticRods()
+{
+  Case c;
+  c.name = "discrete-elastic-rods";
+  c.options.model = ModelType::DiscreteElasticRods;
+  c.options.contacts.staticFriction = 0.4;
+  c.options.threads = 2;
+  c.strands = guides(8, 12);
+  for (std::size_t k = 0; k < c.strands.size(); ++k)
+  {
+    c.strands[k].hair = HairParameters::preset(static_cast<HairType>(k % 2));
+  }
+  c.frames = 16;
+  return c;
+}
+
 Case named(const std::string& name)
 {
   return name == "projective"              ? projective()
+         : name == "discrete-elastic-rods" ? discreteElasticRods()
          : name == "super-helix-tolerance" ? superHelix(1e-4)
                                            : superHelix();
 }
@@ -278,6 +298,11 @@ TEST(Resume, SuperHelixWithATolerancesSubStepsGoesOnBitForBit)
 TEST(Resume, ProjectiveKilledAtRandomFramesGoesOnBitForBit)
 {
   killAndResume(projective(), 4, 36);
+}
+
+TEST(Resume, DiscreteElasticRodsKilledAtRandomFramesGoOnBitForBit)
+{
+  killAndResume(discreteElasticRods(), 3, 37);
 }
 
 TEST(Resume, AResumedRunResumedAgainStillEqualsTheUnbrokenOne)
