@@ -198,6 +198,23 @@ Status DerModel::initialize(const std::vector<GuideStrand>& guides, const Scene&
                      spec.id = run.strandId(k);
                      spec.solver = Solver;
                      failed[k] = Rods[k].initialize(spec, 0);
+                     if (failed[k] && g.curve.empty())
+                     {
+                       // A grown strand starts at rest in its natural shape (StrandModel):
+                       // its rest strains as drawn, the shape they give from the clamp.
+                       const int n = Rods[k].edgeCount();
+                       spec.restStrains.clear();
+                       for (int i = 1; i < n; ++i)
+                       {
+                         const double lbar = 0.5 * (spec.edgeLengths[i - 1] + spec.edgeLengths[i]);
+                         for (int c = 0; c < 3; ++c)
+                         {
+                           spec.restStrains.push_back(Rods[k].restStrains(i)[c] / lbar);
+                         }
+                       }
+                       Rods[k].naturalShape(spec.initialNodes, spec.initialTwists);
+                       failed[k] = Rods[k].initialize(spec, 0);
+                     }
                      if (failed[k] && !g.curve.empty())
                      {
                        Built[k].length = spec.edgeLengths[0] * (g.elements - 0.5);

@@ -55,6 +55,8 @@ public:
   /// root to its tip is L long and the clamp is the root's (docs/discrete-elastic-rods.md,
   /// "Where the clamp acts"); a groom's curve inscribed through its nodes. `fitError` gets
   /// the largest distance of the curve's points from the rod's polyline (0 without a curve).
+  /// (Without a curve the rod is straight here; initialize() starts it in its natural
+  /// shape, DerRod::naturalShape.)
   static Status specFor(const GuideStrand& guide, const Scene& scene, DerSpec& spec,
                         double& fitError);
   const std::vector<DerRod>& rods() const { return Rods; }

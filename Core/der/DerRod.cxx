@@ -3,6 +3,7 @@
 // (docs/discrete-elastic-rods.md).
 #include "der/DerRod.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
@@ -139,6 +140,16 @@ Status DerSpec::validate() const
         return Status::Error(who + "initial node " + std::to_string(k) +
                              " is not finite or coincides with the previous one.");
   }
+  if (!initialTwists.empty())
+  {
+    if (initialTwists.size() != n || initialNodes.empty())
+      return Status::Error(who + "the initial twists are " + std::to_string(initialTwists.size()) +
+                           " values; give one per edge (" + std::to_string(n) +
+                           ") with the initial nodes, or none.");
+    for (double v : initialTwists)
+      if (!std::isfinite(v))
+        return Status::Error(who + "the initial twists are not finite.");
+  }
   if (Status st = hair.validate(); !st)
     return Status::Error(who + st.message());
   if (!gravity.allFinite())
@@ -215,7 +226,7 @@ Status DerRod::initialize(const DerSpec& spec, double time)
     V.segment<3>(4 * k) = root.velocity + root.angularVelocity.cross(x[k] - root.position);
     if (k < n)
     {
-      Q[4 * k + 3] = 0;
+      Q[4 * k + 3] = spec.initialTwists.empty() ? 0.0 : spec.initialTwists[k];
       V[4 * k + 3] = root.angularVelocity.dot(tangents.col(k));
     }
   }
@@ -520,6 +531,41 @@ Status DerRod::solveStep(double h, Eigen::VectorXd& q, Step& s, int& iterations)
     << " of " << g0 << " at the start, last step " << lastStep
     << " of the shortest edge); take a smaller step.";
   return Status::Error(m.str());
+}
+
+void DerRod::naturalShape(std::vector<Eigen::Vector3d>& nodes, std::vector<double>& twists) const
+{
+  const int n = edgeCount();
+  const RootState root = rootState(0);
+  // The material frame (columns t, m1, m2) edge by edge.
+  Eigen::Matrix3d frame = root.orientation;
+  nodes.assign(1, root.position);
+  nodes.push_back(root.position + Spec.edgeLengths[0] * frame.col(0));
+  twists.assign(1, 0.0);
+  Eigen::Vector3d carried = frame.col(1); // the root's m1, parallel-transported
+  for (int i = 1; i < n; ++i)
+  {
+    const Eigen::Vector3d rest = Rest.col(i); // (m̄, κ̄1, κ̄2) [rad]
+    const Eigen::Matrix3d halfTwist =
+        Eigen::AngleAxisd(0.5 * rest[0], Eigen::Vector3d::UnitX()).toRotationMatrix();
+    Eigen::Matrix3d bend = Eigen::Matrix3d::Identity();
+    const double k = rest.tail<2>().norm();
+    if (k > 0)
+    {
+      // t × t' along κ1 m1 + κ2 m2; |κb| = 2 tan(φ/2).
+      const Eigen::Vector3d axis(0, rest[1] / k, rest[2] / k);
+      bend = Eigen::AngleAxisd(2 * std::atan(0.5 * k), axis).toRotationMatrix();
+    }
+    const Eigen::Vector3d before = frame.col(0);
+    frame = frame * halfTwist * bend * halfTwist;
+    const Eigen::Vector3d t = frame.col(0);
+    nodes.push_back(nodes.back() + Spec.edgeLengths[i] * t);
+    carried = parallelTransport(carried, before, t);
+    carried = (carried - carried.dot(t) * t).normalized();
+    twists.push_back(twists.back() +
+                     std::atan2(carried.cross(frame.col(1)).dot(t), carried.dot(frame.col(1))));
+    carried = frame.col(1);
+  }
 }
 
 Status DerRod::step(double h)

@@ -54,6 +54,10 @@ struct DerSpec
   /// the root tangent. Either way the strand starts at rest relative to its root and its
   /// material frame is the root's, parallel-transported along the strand.
   std::vector<Eigen::Vector3d> initialNodes;
+  /// With initialNodes: each edge's material angle from the root's material frame carried
+  /// along the initial nodes by parallel transport (N values, the first 0; the twist at node j
+  /// is the difference of edges j and j − 1). Empty: 0, the carried frame itself.
+  std::vector<double> initialTwists;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);
   Eigen::Vector3d wind = Eigen::Vector3d::Zero(); ///< uniform air velocity, unless windField
   AirVelocityField windField;                     ///< optional, overrides `wind`
@@ -139,6 +143,12 @@ public:
   Eigen::Vector3d referenceDirector(int edge) const { return Directors.col(edge); }
   Eigen::Vector3d materialDirector1(int edge) const;
   Eigen::Vector3d materialDirector2(int edge) const;
+  /// The shape the strand takes with no load from its clamp at time 0: nodes 0 … N and each
+  /// edge's material angle, for DerSpec::initialNodes and initialTwists (each node turns the
+  /// material frame by half its rest twist, its rest curvature — the turning angle φ with
+  /// 2 tan(φ/2) = |κ̄| — and the other half of its twist). For a strand initialized
+  /// straight, to be initialized again in its natural shape.
+  void naturalShape(std::vector<Eigen::Vector3d>& nodes, std::vector<double>& twists) const;
   /// (m_i, κ_i1, κ_i2) [rad] at interior node i (1 … N−1), and their rest values.
   Eigen::Vector3d strains(int node) const;
   Eigen::Vector3d restStrains(int node) const { return Rest.col(node); }

@@ -132,3 +132,52 @@ TEST(DerAgainstSuperHelix, AReleasedStrandsTipFollowsTheSamePath)
   EXPECT_GT(travel, Length / 3);
   EXPECT_LE(apart, shError + derError);
 }
+
+TEST(DerAgainstSuperHelix, TheNaturalShapeIsTheSuperHelixsHelixAtSecondOrder)
+{
+  // A curly strand (no variation) grown in its natural shape by both models from the same
+  // clamp: the Super-Helix's is the exact helix of its natural curvatures and twist (one
+  // element, closed form); the rod's nodes, built by DerRod::naturalShape from its rest
+  // strains, must lie on it up to the discretization's O(N⁻²), and the rod must start at rest
+  // (its elastic energy a vanishing share of the helix's bending energy scale EI κ² L).
+  HairParameters curly = HairParameters::preset(HairType::Curly);
+  curly.curvatureVariation = 0;
+  StrandSpec spec = StrandSpec::uniform(Length, 1, curly);
+  SuperHelix helix;
+  ASSERT_TRUE(helix.initialize(spec).ok());
+  const double kappa = curly.naturalCurvature().tail<2>().norm();
+  const double scale = curly.stiffness()[1] * kappa * kappa * Length;
+  std::vector<double> errors;
+  for (int n : {20, 40, 80})
+  {
+    const double edge = Length / (n - 0.5);
+    DerSpec straight = DerSpec::uniform(edge * n, n, curly);
+    RootState root;
+    root.position = Eigen::Vector3d(-0.5 * edge, 0, 0);
+    straight.root = [root](double) { return root; };
+    DerRod rod;
+    ASSERT_TRUE(rod.initialize(straight).ok());
+    DerSpec natural = straight;
+    rod.naturalShape(natural.initialNodes, natural.initialTwists);
+    for (int i = 1; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        natural.restStrains.push_back(rod.restStrains(i)[c] / edge);
+      }
+    }
+    ASSERT_TRUE(rod.initialize(natural).ok());
+    double error = 0;
+    for (int k = 1; k <= n; ++k)
+    {
+      error = std::max(error, (rod.position(k) - helix.position((k - 0.5) * edge)).norm());
+    }
+    errors.push_back(error);
+    std::cout << "N = " << n << ": largest node distance from the helix " << error
+              << " m, elastic energy " << rod.energy().elastic / scale << " EI κ² L\n";
+    EXPECT_LT(rod.energy().elastic, 1e-3 * scale) << n;
+  }
+  const double order = std::log2(errors[1] / errors[2]);
+  RecordProperty("natural_shape_order", std::to_string(order));
+  EXPECT_GT(order, 1.8);
+}
