@@ -700,7 +700,8 @@ Ranks toRanks(vtkMultiProcessController* controller)
 }
 
 void toEnergyTable(const std::vector<double>& times,
-                   const std::map<std::string, std::vector<double>>& energies, vtkTable* table)
+                   const std::map<std::string, std::vector<double>>& columns,
+                   const std::vector<std::string>& energyTerms, vtkTable* table)
 {
   table->Initialize();
   vtkNew<vtkDoubleArray> time;
@@ -711,7 +712,14 @@ void toEnergyTable(const std::vector<double>& times,
     time->SetValue(static_cast<vtkIdType>(i), times[i]);
   }
   table->AddColumn(time);
-  for (const auto& [name, values] : energies)
+  vtkNew<vtkStringArray> terms;
+  terms->SetName("EnergyTerms");
+  for (const std::string& term : energyTerms)
+  {
+    terms->InsertNextValue(term);
+  }
+  table->GetFieldData()->AddArray(terms);
+  for (const auto& [name, values] : columns)
   {
     vtkNew<vtkDoubleArray> column;
     column->SetName(name.c_str());

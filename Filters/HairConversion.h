@@ -124,9 +124,13 @@ Ranks toRanks(vtkMultiProcessController* controller);
 /// filters that count skip.
 void appendGhosts(vtkPolyData* strands, vtkPolyData* ghosts);
 
-/// One row per frame: Time, then one column per energy term.
+/// One row per frame: Time, then one column per entry of `columns` (energy terms and, from a
+/// simulation, the penetration and the model's step statistics). Which of them are energy
+/// terms, `energyTerms`, goes with the table as its field data "EnergyTerms" (a string per
+/// term), so that Hair Analysis takes those and no other column, whatever model made them.
 void toEnergyTable(const std::vector<double>& times,
-                   const std::map<std::string, std::vector<double>>& energies, vtkTable* table);
+                   const std::map<std::string, std::vector<double>>& columns,
+                   const std::vector<std::string>& energyTerms, vtkTable* table);
 
 } // namespace convert
 } // namespace hair

@@ -10,6 +10,7 @@
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdList.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -18,6 +19,7 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 
 #include <algorithm>
@@ -30,25 +32,19 @@ vtkStandardNewMacro(vtkHairAnalysis);
 
 namespace
 {
-/// Columns of Hair Simulation's energy table that are not energy terms: this filter
-/// measures the penetration from contact_depth for both sources (contacts,
-/// max_contact_depth), so that the simulation and the reader of its state file give the
-/// same table; the Super-Helix step statistics (sub-steps, error estimate) are not in a
-/// state file and are left out.
-const char* const NotEnergy[] = {"Time",          "nodes_inside",      "max_depth",
-                                 "substeps",      "rejected_substeps", "first_order_share",
-                                 "error_estimate"};
-
-bool isEnergyColumn(const std::string& name)
+/// Whether column `name` of an Energy table is an energy term: one its field data
+/// "EnergyTerms" names (Hair Simulation's and Hair State Reader's tables say which; the
+/// penetration and a model's step statistics are not, and are not in a state file); a table
+/// without that list: every column but Time.
+bool isEnergyColumn(vtkTable* table, const std::string& name)
 {
-  for (const char* n : NotEnergy)
+  auto* terms =
+      vtkStringArray::SafeDownCast(table->GetFieldData()->GetAbstractArray("EnergyTerms"));
+  if (!terms)
   {
-    if (name == n)
-    {
-      return false;
-    }
+    return name != "Time";
   }
-  return true;
+  return terms->LookupValue(name) >= 0;
 }
 } // namespace
 
@@ -421,7 +417,8 @@ int vtkHairAnalysis::RequestData(vtkInformation* request, vtkInformationVector**
       for (vtkIdType c = 0; c < energy->GetNumberOfColumns(); ++c)
       {
         const char* name = energy->GetColumnName(c);
-        if (name && isEnergyColumn(name) && vtkArrayDownCast<vtkDataArray>(energy->GetColumn(c)))
+        if (name && isEnergyColumn(energy, name) &&
+            vtkArrayDownCast<vtkDataArray>(energy->GetColumn(c)))
         {
           in.EnergyNames.emplace_back(name);
         }

@@ -351,7 +351,13 @@ int vtkHairSimulation::RequestData(vtkInformation*, vtkInformationVector** input
   table->Initialize();
   if (ranks.rank() == 0)
   {
-    hair::convert::toEnergyTable(times, columns, table);
+    // The energy terms are the frames' (the other columns: penetration, step statistics).
+    std::vector<std::string> terms;
+    for (const auto& term : in.Sim.frame(0).energy)
+    {
+      terms.push_back(term.first);
+    }
+    hair::convert::toEnergyTable(times, columns, terms, table);
   }
   table->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), frame.time);
   return 1;

@@ -157,7 +157,12 @@ int vtkHairStateReader::RequestData(vtkInformation*, vtkInformationVector**,
   energy->Initialize();
   if (piece == 0)
   {
-    hair::convert::toEnergyTable(times, reader.energies(), energy);
+    std::vector<std::string> terms; // every column of a file's table is an energy term
+    for (const auto& term : reader.energies())
+    {
+      terms.push_back(term.first);
+    }
+    hair::convert::toEnergyTable(times, reader.energies(), terms, energy);
   }
   strands->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), state.time);
   return 1;

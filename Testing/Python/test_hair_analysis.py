@@ -177,6 +177,24 @@ check(any("Tracked Strands: strand 99 is not in the input" in m for m in errors.
       f"an unknown tracked strand is refused ({errors.messages[:1]})")
 check(fetch(wrong_id).GetNumberOfRows() == 0, "and the table is empty")
 
+# Another model's step statistics: the Discrete Elastic Rods report Newton iterations and
+# steps, which the analysis leaves out as it does the Super-Helix's (it takes the columns
+# the table names as energy terms, whatever model made them).
+rods = HairSimulation(Input=strands, Colliders=[head], Duration=0.2, FrameRate=30,  # noqa: F821
+                      BodyMotion="Shake", MotionAmplitude=0.3, Model="Discrete Elastic Rods")
+rods_analysis = HairAnalysis(Input=rods, Energy=OutputPort(rods, 1))  # noqa: F821
+rods_analysis.UpdatePipeline()
+rods_energy = table_columns(fetch(rods, 1))
+rods_cols = table_columns(fetch(rods_analysis))
+ROD_STEPS = ("newton_iterations", "steps")
+check(all(n in rods_energy for n in ROD_STEPS) and not any(n in rods_cols for n in ROD_STEPS),
+      "the rods' step statistics are in the simulation's table, not in the analysis's")
+check(rods_energy["newton_iterations"][1:].min() >= 1,
+      f"the rods took Newton iterations every frame ({rods_energy['newton_iterations'][1:]})")
+rod_terms = [n for n in rods_energy if n not in ("Time", "nodes_inside", "max_depth") + ROD_STEPS]
+check(all(np.array_equal(rods_cols[n], rods_energy[n]) for n in rod_terms),
+      f"the rods' energy terms are the analysis's columns exactly ({rod_terms})")
+
 # The energy of another run: its rows are at other times (every 1/20 s); refused at the
 # first frame it lacks, in the middle of the loop over time.
 other = HairSimulation(Input=strands, Duration=0.4, FrameRate=20)  # noqa: F821
