@@ -25,6 +25,7 @@
 // (Scripts/groom_pictures.py). Bad input: a message on stderr and exit status 2; a failed
 // computation: exit status 1.
 #include "ProjectiveScenes.h"
+#include "StudyArguments.h"
 #include "collision/PosedPart.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
@@ -51,30 +52,39 @@ namespace
 
 using Curves = std::vector<std::vector<Eigen::Vector3d>>;
 
-struct Arguments
+/// The comma-separated words of `text`.
+std::vector<std::string> words(const std::string& text)
 {
-  std::map<std::string, std::string> values;
-  std::string text(const std::string& k, const std::string& fallback) const
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
   {
-    const auto it = values.find(k);
-    return it == values.end() ? fallback : it->second;
+    out.push_back(item);
   }
-  double number(const std::string& k, double fallback) const
-  {
-    return values.count(k) ? std::stod(values.at(k)) : fallback;
-  }
-  std::vector<std::string> list(const std::string& k, const std::string& fallback) const
-  {
-    std::vector<std::string> out;
-    std::stringstream ss(text(k, fallback));
-    std::string item;
-    while (std::getline(ss, item, ','))
-    {
-      out.push_back(item);
-    }
-    return out;
-  }
-};
+  return out;
+}
+
+/// The keys of groom_study, with their defaults, ranges and meaning (StudyArguments.h).
+const hair::tools::Keys& groomKeys()
+{
+  using namespace hair::tools;
+  static const Keys keys = {
+      textKey("out", "", "the output file (required)").as("<csv>"),
+      integerKey("strands", "200", 1, 2000, "guides grown on the scalp"),
+      textKey("presets", "smooth,wavy,curly,fuzzy", "hair presets, comma-separated"),
+      textKey("models", "super-helix,projective", "models, comma-separated"),
+      integerKey("elements", "10", 1, 40, "elements per guide"),
+      numberKey("hold", "10", 0, 60, "s, the sag-free groom held still").openBelow(),
+      numberKey("release", "10", 2, 60, "s, the shake and release run"),
+      integerKey("threads", "2", 1, 1e6, "threads"),
+      textKey("curves", "", "the groom and each run's last frame (optional)").as("<csv>"),
+      numberKey("static", "0", 0, 1e6,
+                "the static friction coefficient: 0 (off) or at least the kinetic one"),
+      choiceKey("groom", "shaken", {"shaken", "settled"},
+                "the frame at 0.5 s of the shake, or 3 s settled at rest")};
+  return keys;
+}
 
 int fail(const std::string& message, int code)
 {
@@ -184,66 +194,40 @@ void writeCurves(std::ofstream& out, const std::string& model, const std::string
 
 int main(int argc, char** argv)
 {
-  Arguments args;
-  const std::set<std::string> known = {"out",      "strands", "presets", "models",
-                                       "elements", "hold",    "release", "threads",
-                                       "curves",   "static",  "groom"};
-  for (int i = 1; i < argc; ++i)
+  hair::tools::Arguments args;
+  if (argc == 2 && std::string(argv[1]) == "help")
   {
-    const std::string a = argv[i];
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || !known.count(a.substr(0, eq)))
-    {
-      return fail("argument '" + a +
-                      "' is not one of out=, strands=, presets=, models=, "
-                      "elements=, hold=, release=, threads=, curves=, static=, groom=.",
-                  2);
-    }
-    args.values[a.substr(0, eq)] = a.substr(eq + 1);
+    std::cout << "groom_study: issue 25's measurements of sag-free grooms on the bundled body.\n";
+    hair::tools::describe(std::cout, groomKeys());
+    return 0;
   }
-  if (!args.values.count("out"))
+  if (Status s = args.parse(argc, argv, 1, groomKeys(), "groom_study"); !s)
   {
-    return fail("give the output file: out=<csv>.", 2);
+    return fail(s.message(), 2);
   }
-  int strands = 0, elements = 0, threads = 0;
-  double hold = 0, release = 0, staticFriction = 0;
-  try
+  if (!args.has("out"))
   {
-    strands = static_cast<int>(args.number("strands", 200));
-    elements = static_cast<int>(args.number("elements", 10));
-    threads = static_cast<int>(args.number("threads", 2));
-    hold = args.number("hold", 10);
-    release = args.number("release", 10);
-    staticFriction = args.number("static", 0);
+    std::cerr << "groom_study: give the output file: out=<csv>.\n"
+              << "usage: groom_study " << hair::tools::usageLine(groomKeys(), 20) << "\n";
+    return 2;
   }
-  catch (const std::exception&)
-  {
-    return fail("strands, elements, threads, hold, release and static are numbers.", 2);
-  }
-  const std::string groomKind = args.values.count("groom") ? args.values["groom"] : "shaken";
-  if (groomKind != "shaken" && groomKind != "settled")
-  {
-    return fail("groom is shaken (the frame at 0.5 s of the shake) or settled (3 s at rest).", 2);
-  }
+  const int strands = args.integer("strands"), elements = args.integer("elements"),
+            threads = args.integer("threads");
+  const double hold = args.number("hold"), release = args.number("release"),
+               staticFriction = args.number("static");
+  const std::string groomKind = args.text("groom");
   if (!(staticFriction == 0 || staticFriction >= BodyContactParameters().friction))
   {
     return fail("static is 0 (off) or at least the kinetic friction coefficient, " +
                     std::to_string(BodyContactParameters().friction) + ".",
                 2);
   }
-  if (strands < 1 || strands > 2000 || elements < 1 || elements > 40 || threads < 1 ||
-      !(hold > 0 && hold <= 60) || !(release >= 2 && release <= 60))
-  {
-    return fail("strands in 1-2000, elements in 1-40, threads >= 1, hold in (0, 60] s, release "
-                "in [2, 60] s.",
-                2);
-  }
   const std::map<std::string, HairType> presets = {{"smooth", HairType::Smooth},
                                                    {"wavy", HairType::Wavy},
                                                    {"curly", HairType::Curly},
                                                    {"fuzzy", HairType::Fuzzy}};
-  std::vector<std::string> presetNames = args.list("presets", "smooth,wavy,curly,fuzzy");
-  std::vector<std::string> modelNames = args.list("models", "super-helix,projective");
+  std::vector<std::string> presetNames = words(args.text("presets"));
+  std::vector<std::string> modelNames = words(args.text("models"));
   for (const std::string& p : presetNames)
   {
     if (!presets.count(p))
@@ -259,19 +243,19 @@ int main(int argc, char** argv)
       return fail(s.message(), 2);
     }
   }
-  std::ofstream out(args.text("out", ""));
+  std::ofstream out(args.text("out"));
   if (!out)
   {
-    return fail("cannot write " + args.text("out", "") + ".", 2);
+    return fail("cannot write " + args.text("out") + ".", 2);
   }
   out.precision(9);
   std::ofstream curvesOut;
-  if (args.values.count("curves"))
+  if (args.has("curves"))
   {
-    curvesOut.open(args.text("curves", ""));
+    curvesOut.open(args.text("curves"));
     if (!curvesOut)
     {
-      return fail("cannot write " + args.text("curves", "") + ".", 2);
+      return fail("cannot write " + args.text("curves") + ".", 2);
     }
     curvesOut.precision(9);
     curvesOut << "model,preset,frame,strand,point,x,y,z\n";
