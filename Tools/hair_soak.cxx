@@ -45,6 +45,7 @@
 // away; prints one line "follower reads=… frames=… failures=… [first failure]" and exits 0
 // when every read held.
 #include "DemoScene.h"
+#include "StudyArguments.h"
 #include "io/StateFile.h"
 #include "simulation/Simulation.h"
 #include "strands/BundledBody.h"
@@ -664,78 +665,84 @@ std::string withSuffix(const std::string& file, const std::string& suffix)
 }
 } // namespace
 
+/// The keys of hair_soak, with their defaults, ranges and meaning (StudyArguments.h);
+/// follow= and frames= are the follower process's (the run starts it with them).
+const hair::tools::Keys& soakKeys()
+{
+  using namespace hair::tools;
+  static const Keys keys = {
+      textKey("out", "", "the state file of the run (required)").as("<file.h5>"),
+      modelKey("model", "both", "the model, or both: Super-Helix then projective", {"both"}),
+      textKey("presets", "all", "all, or a comma-separated list of smooth, wavy, curly, fuzzy"),
+      integerKey("strands", "200", 1, 5000, "guides per preset"),
+      numberKey("duration", "3600", 1, 86400, "s simulated"),
+      numberKey("interval", "1.1", 1.0 / 30, 60, "s between stored frames"),
+      numberKey("frequency", "3", 0, 20, "Hz of the head's shake").openBelow(),
+      numberKey("amplitude", "0.5", 0, 1.5, "rad of the head's shake"),
+      numberKey("fade", "1", 0, 10, "s over which the shake fades in"),
+      numberKey("settle", "60", 0, 86400, "s after which the memory must be flat (< duration)"),
+      numberKey("memory", "8", 0.1, 1e5, "MB of frames the run keeps in memory"),
+      choiceKey("hairhair", "on", {"on", "off"}, "the Super-Helix's hair–hair interaction"),
+      choiceKey("flat", "strict", {"strict", "report"},
+                "strict: a memory growth beyond what the run accounts for fails the run"),
+      numberKey("step", "0.0333333333333333333", 1e-4, 60, "s, the model's step (≤ interval)"),
+      integerKey("threads", "1", 1, 256, "threads"),
+      textKey("follow", "", "the follower process's file").hide(),
+      integerKey("frames", "0", 0, 1e9, "the follower process's frames").hide()};
+  return keys;
+}
+
 int main(int argc, char** argv)
 {
-  std::map<std::string, std::string> args{{"duration", "3600"},
-                                          {"strands", "200"},
-                                          {"interval", "1.1"},
-                                          {"threads", "1"},
-                                          {"model", "both"},
-                                          {"presets", "all"},
-                                          {"frequency", "3"},
-                                          {"amplitude", "0.5"},
-                                          {"fade", "1"},
-                                          {"settle", "60"},
-                                          {"out", ""},
-                                          {"follow", ""},
-                                          {"frames", "0"},
-                                          {"memory", "8"},
-                                          {"hairhair", "on"},
-                                          {"flat", "strict"},
-                                          {"step", "0.0333333333333333333"}};
-  for (int i = 1; i < argc; ++i)
+  hair::tools::Arguments args;
+  if (argc == 2 && std::string(argv[1]) == "help")
   {
-    const std::string a = argv[i];
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || !args.count(a.substr(0, eq)))
-    {
-      std::cerr << "hair_soak: argument '" << a
-                << "' is not one of out=, model=, presets=, strands=, duration=, interval=, "
-                   "frequency=, amplitude=, fade=, settle=, memory=, hairhair=, flat=, step=, "
-                   "threads=.\n";
-      return 2;
-    }
-    args[a.substr(0, eq)] = a.substr(eq + 1);
+    std::cout << "hair_soak: the soak run, a model or both under a shake for a long time.\n";
+    hair::tools::describe(std::cout, soakKeys());
+    return 0;
   }
-  if (!args["follow"].empty())
-    return follow(args["follow"], std::atol(args["frames"].c_str()),
-                  std::atof(args["interval"].c_str()));
+  if (Status s = args.parse(argc, argv, 1, soakKeys(), "hair_soak"); !s)
+  {
+    std::cerr << "hair_soak: " << s.message() << "\n";
+    return 2;
+  }
+  if (args.has("follow"))
+    return follow(args.text("follow"), args.integer("frames"), args.number("interval"));
 
   Settings c;
-  c.duration = std::atof(args["duration"].c_str());
-  c.interval = std::atof(args["interval"].c_str());
-  c.strands = std::atoi(args["strands"].c_str());
-  c.threads = std::atoi(args["threads"].c_str());
-  c.frequency = std::atof(args["frequency"].c_str());
-  c.amplitude = std::atof(args["amplitude"].c_str());
-  c.fade = std::atof(args["fade"].c_str());
-  c.settle = std::atof(args["settle"].c_str());
-  c.memory = std::atof(args["memory"].c_str());
-  c.step = std::atof(args["step"].c_str());
-  c.hairHair = args["hairhair"] != "off";
-  c.gateMemory = args["flat"] != "report";
-  const std::string& m = args["model"];
+  c.duration = args.number("duration");
+  c.interval = args.number("interval");
+  c.strands = args.integer("strands");
+  c.threads = args.integer("threads");
+  c.frequency = args.number("frequency");
+  c.amplitude = args.number("amplitude");
+  c.fade = args.number("fade");
+  c.settle = args.number("settle");
+  c.memory = args.number("memory");
+  c.step = args.number("step");
+  c.hairHair = args.text("hairhair") == "on";
+  c.gateMemory = args.text("flat") == "strict";
   std::vector<ModelType> models;
-  if (m == "both")
+  if (args.text("model") == "both")
     models = {ModelType::SuperHelix, ModelType::Projective};
-  else if (ModelType type; parseModel(m, "model=", type))
-    models.push_back(type);
-  if (args["out"].empty() || models.empty() || !parsePresets(args["presets"], c.presets) ||
-      !(c.duration >= 1 && c.duration <= 86400) || !(c.interval >= 1.0 / 30 && c.interval <= 60) ||
-      c.strands < 1 || c.strands > 5000 || c.threads < 1 || c.threads > 256 ||
-      !(c.frequency > 0 && c.frequency <= 20) || !(c.amplitude >= 0 && c.amplitude <= 1.5) ||
-      !(c.fade >= 0 && c.fade <= 10) || !(c.settle >= 0 && c.settle < c.duration) ||
-      !(c.memory >= 0.1 && c.memory <= 1e5) ||
-      (args["hairhair"] != "on" && args["hairhair"] != "off") ||
-      (args["flat"] != "strict" && args["flat"] != "report") ||
-      !(c.step >= 1e-4 && c.step <= c.interval))
+  else
+    models.push_back(args.model("model"));
+  std::string problem;
+  if (!args.has("out"))
+    problem = "give the output file: out=<file.h5>.";
+  else if (!parsePresets(args.text("presets"), c.presets))
+    problem = "presets=" + args.text("presets") +
+              " is not all or a comma-separated list of smooth, wavy, curly, fuzzy.";
+  else if (!(c.settle < c.duration))
+    problem = "settle=" + args.written("settle") +
+              " is not below duration=" + args.written("duration") + ".";
+  else if (!(c.step <= c.interval))
+    problem = "step=" + args.written("step") +
+              " is longer than interval=" + args.written("interval") + ".";
+  if (!problem.empty())
   {
-    std::cerr << "hair_soak: give out=<file.h5>, model=super-helix|projective|both, presets=all "
-                 "or a list of smooth,wavy,curly,fuzzy, duration in [1, 86400] s, interval in "
-                 "[1/30, 60] s, strands in [1, 5000] per preset, frequency in (0, 20] Hz, "
-                 "amplitude in [0, 1.5] rad, fade in [0, 10] s, settle in [0, duration) s, "
-                 "memory in [0.1, 10^5] MB, hairhair=on|off, flat=strict|report, step in [10^-4, "
-                 "interval] s, threads in [1, 256].\n";
+    std::cerr << "hair_soak: " << problem << "\n"
+              << "usage: hair_soak " << hair::tools::usageLine(soakKeys(), 18) << "\n";
     return 2;
   }
 
@@ -748,7 +755,8 @@ int main(int argc, char** argv)
   std::vector<Result> results;
   for (ModelType model : models)
   {
-    const std::string file = models.size() > 1 ? withSuffix(args["out"], name(model)) : args["out"];
+    const std::string out = args.text("out");
+    const std::string file = models.size() > 1 ? withSuffix(out, name(model)) : out;
     results.push_back(run(model, file, body, c));
   }
   report(results, c);
