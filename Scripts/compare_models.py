@@ -1,5 +1,5 @@
 """The three strand models on the same scene, side by side: the demo's guides on the bundled
-body, its head shake, wind and body contacts, run by hair_study demo (Tools/hair_study.cxx)
+body, its head shake, wind and body contacts, run by hair_study demo (Tools/studies/demo.cxx)
 once per registered model. Writes per model its state file, and
 
   compare_models.csv   model, elements, strands, frames, wall and CPU seconds, the cost per

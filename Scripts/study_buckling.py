@@ -7,7 +7,7 @@ Run: /usr/bin/python3 Scripts/study_buckling.py build/bin/hair_study <output dir
 
 A straight, round strand (smooth preset, ellipticity 1, L = 10 cm, its internal friction and
 air drag), clamped at the origin with tangent +x, no gravity. `hair_study buckling`
-(Tools/hair_study.cxx) puts a dead load P at the tip (StrandSpec::tipForce) pointing along -x
+(Tools/studies/buckling.cxx) puts a dead load P at the tip (StrandSpec::tipForce) pointing along -x
 and tilted by 1e-4 rad towards +y: the imperfection is a transverse tip load of 1e-4 P
 (small enough that the geometric nonlinearity below P_cr, O((delta/L)^2) < 3e-6, is negligible). For
 each P (increasing, in units of the Euler load P_cr = pi^2 EI / (4 L^2) of a clamped-free
@@ -29,7 +29,7 @@ References drawn on the plot:
     P/P_cr = (2 K(m)/pi)^2, delta/L = 2 sqrt(m) / K(m), with K the complete elliptic integral
     of the first kind, m = sin^2(theta_tip/2).
 
-Clump part: `hair_study clump` (Tools/hair_study.cxx; 50 guides of 30 cm, 20 in --quick) is run
+Clump part: `hair_study clump` (Tools/studies/clump.cxx; 50 guides of 30 cm, 20 in --quick) is run
 for gamma = 5e-11, 1e-10, 2e-10, 5e-10 kg m^3/s with contacts, and once at 1e-10 without them.
 The clump is squeezed by an air flow converging on its axis (ramped over 3 s, 1.5 s quick), then
 its root disc oscillates vertically (1 cm, 3 Hz) until 6 s (3 s quick). Span l_A: the largest

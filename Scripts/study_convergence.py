@@ -5,7 +5,7 @@ Run: /usr/bin/python3 Scripts/study_convergence.py build/bin/hair_study <output 
 
 A straight, round clamped rod (smooth preset, ellipticity 1, L = 10 cm, no friction, no drag)
 for N = 1, 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25, 32, 40 (--quick: 2, 3, 5, 10, 20, 40),
-computed by `hair_study convergence` (Tools/hair_study.cxx) through SuperHelix's public API:
+computed by `hair_study convergence` (Tools/studies/convergence.cxx) through SuperHelix's public API:
   f1, f2   bending frequencies of the linearization about the straight rod: the
            eigenvalues of M^-1 K restricted to kappa1 (mass matrix from SuperHelix::assemble,
            K = diag(EI l_Q)); reference f = (beta L)^2 / (2 pi L^2) sqrt(EI / rho S),

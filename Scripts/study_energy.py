@@ -12,7 +12,7 @@ where the residual is what the time integrator itself adds (< 0: numerical dissi
 The step is first order in dt, so the residual must fall like dt. Closure of the budget:
 max_t |residual| / max_t |work done on the hair|.
 
-(a) A released strand, from Core through `hair_study release` (Tools/hair_study.cxx): the
+(a) A released strand, from Core through `hair_study release` (Tools/studies/release.cxx): the
     wavy preset, 30 cm, N = 10, clamped horizontally (tangent +x) at a fixed root, in its
     natural shape and at rest at t = 0, falling under gravity with its internal friction and
     air drag, for 2 s (--quick: 1 s) at dt = 1/30 s and finer (down to 1/3840 s; --quick:

@@ -3,7 +3,7 @@ figs. 6 and 7), with one Super-Helix standing for a clump of hair.
 
 Run: /usr/bin/python3 Scripts/study_oscillation.py build/bin/hair_study <output dir> [--quick]
 
-(a) Vertical oscillation of a curly clump (`hair_study oscillation`, Tools/hair_study.cxx):
+(a) Vertical oscillation of a curly clump (`hair_study oscillation`, Tools/studies/oscillation.cxx):
     the curly preset (the paper's "Caucasian 2", appendix B), 30 cm, N = 40, clamped pointing
     down at a root that first hangs in its static equilibrium and then oscillates vertically,
     d(t) = 1 cm sin(2 pi f t), grown from rest over 1 s, for gamma = 5e-11, 1e-10, 5e-10

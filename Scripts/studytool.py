@@ -1,5 +1,5 @@
 """Shared by Scripts/study_convergence.py, study_buckling.py and study_energy.py: finding and
-running hair_study (Tools/hair_study.cxx, built into <build>/bin/), reading its CSV, fitting
+running hair_study (Tools/hair_study.cxx and Tools/studies/, built into <build>/bin/), reading its CSV, fitting
 slopes on log-log axes."""
 import csv
 import os
