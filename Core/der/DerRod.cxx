@@ -108,6 +108,13 @@ Status DerSpec::validate() const
     return Status::Error(who + "the number of edges N is " + std::to_string(n) +
                          "; a discrete elastic rod needs N >= 2 (one interior node), give at "
                          "least two edge lengths.");
+  if (clampTip && n < 4)
+    return Status::Error(who +
+                         "a rod clamped at both ends needs N >= 4 edges (a free node "
+                         "between its clamped end edges), not " +
+                         std::to_string(n) + ".");
+  if (!std::isfinite(tipTwist))
+    return Status::Error(who + "the tip's twist is not finite; give an angle in radians.");
   if (n > 100000)
     return Status::Error(who + "N = " + std::to_string(n) +
                          " edges is more than 100000; give fewer, longer edges.");
@@ -226,7 +233,9 @@ Status DerRod::initialize(const DerSpec& spec, double time)
     V.segment<3>(4 * k) = root.velocity + root.angularVelocity.cross(x[k] - root.position);
     if (k < n)
     {
-      Q[4 * k + 3] = spec.initialTwists.empty() ? 0.0 : spec.initialTwists[k];
+      Q[4 * k + 3] = !spec.initialTwists.empty() ? spec.initialTwists[k]
+                     : spec.clampTip             ? spec.tipTwist * k / (n - 1)
+                                                 : 0.0;
       V[4 * k + 3] = root.angularVelocity.dot(tangents.col(k));
     }
   }
@@ -266,7 +275,9 @@ Status DerRod::initialize(const DerSpec& spec, double time)
 
   Free.assign(4 * n + 3, -1);
   FreeCount = 0;
-  for (int i = 7; i < 4 * n + 3; ++i)
+  // The clamp's x_0, θ_0, x_1; with the tip clamped, x_{N−1}, θ_{N−1}, x_N too.
+  const int last = Spec.clampTip ? 4 * (n - 1) : 4 * n + 3;
+  for (int i = 7; i < last; ++i)
     Free[i] = FreeCount++;
   Factor = std::make_unique<Solver>();
   LastIterations = 0;
@@ -636,7 +647,7 @@ Status DerRod::step(double h)
   {
     const RootState before = rootState(t0);
     const Eigen::Matrix3d turn = root.orientation * before.orientation.transpose();
-    for (int k = 2; k <= n; ++k)
+    for (int k = 2; k <= (Spec.clampTip ? n - 2 : n); ++k)
     {
       const Eigen::Vector3d x = Q.segment<3>(4 * k), arm = x - before.position;
       const Eigen::Vector3d carried = before.velocity + before.angularVelocity.cross(arm);

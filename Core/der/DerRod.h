@@ -67,6 +67,12 @@ struct DerSpec
   /// A dead load on the last node [N]; its work is DerEnergyTerms::loadWork.
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();
   DerSolverOptions solver;
+  /// Clamp the tip too: the last edge held where the initial shape puts it, its material
+  /// frame turned by `tipTwist` [rad] about its tangent from the frame carried from the root
+  /// (without initialTwists the edges' angles start linear from 0 to tipTwist: a straight rod
+  /// in uniform twist). A rod clamped at both ends, as Greenhill's twisted shaft; N >= 4.
+  bool clampTip = false;
+  double tipTwist = 0;
 
   /// A strand of `edges` equal edges of total length `length` [m].
   static DerSpec uniform(double length, int edges, const HairParameters& hair);
