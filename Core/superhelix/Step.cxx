@@ -3,6 +3,7 @@
 // Eigen's), step(), singleStep() (one step of the semi-implicit or the midpoint scheme, its
 // checks, the energy flows over the step, its error estimate and the commit), advance()
 // (sub-steps controlled by that estimate), and setState().
+#include "superhelix/SubstepControl.h"
 #include "superhelix/SuperHelix.h"
 
 #include "superhelix/DenseLu.h"
@@ -688,8 +689,8 @@ Status SuperHelix::advance(double dt, double tolerance)
   // `tolerance` over dt. e is the first-order update's local error, O(h²), so the ratio
   // r = e / (tolerance · h / dt) is O(h) and the next sub-step is h · 0.9 / r (at most
   // doubled, at least a fifth); BDF2's estimate is its own local error, O(h³), and the next
-  // sub-step h · 0.9 / √r. The sub-step carries over to the next advance(); with BDF2 it is
-  // at most MaxBdfRatio times the one before.
+  // sub-step h · 0.9 / √r (superhelix/SubstepControl.h). The sub-step carries over to the next
+  // advance(); with BDF2 it is at most MaxBdfRatio times the one before.
   const Eigen::VectorXd q0 = Q, qd0 = Qdot;
   const double t0 = Time;
   const EnergyReport en0 = Energy;
@@ -705,10 +706,7 @@ Status SuperHelix::advance(double dt, double tolerance)
     double hs = std::max(h, hMin);
     if (Spec.integrator == Integrator::Bdf2 && HasPrevious)
       hs = std::max(hMin, std::min(hs, MaxBdfRatio * PreviousStep));
-    if (hs >= remaining * (1 - 1e-9))
-      hs = remaining;
-    else if (hs > 0.5 * remaining)
-      hs = 0.5 * remaining;
+    hs = substeps::land(hs, remaining);
     // At the smallest sub-step (or when the sub-steps would run out) accept whatever the
     // estimate: the sum reported says how far it is from the tolerance.
     const bool last = hs <= hMin * (1 + 1e-9) || accepted + rejectedCount >= 4 * MaxSubsteps;
@@ -724,12 +722,11 @@ Status SuperHelix::advance(double dt, double tolerance)
       reconstruct();
       return st;
     }
-    const double ratio = LastError / allowed;
-    const double grow = ratio > 0 ? 0.9 / (LastErrorPower == 3 ? std::sqrt(ratio) : ratio) : 2.0;
+    const double grow = substeps::factor(LastError / allowed, LastErrorPower);
     if (rejected)
     {
       ++rejectedCount;
-      h = hs * std::max(0.2, std::min(0.9, grow));
+      h = substeps::afterRejected(hs, grow);
       continue;
     }
     ++accepted;
@@ -748,7 +745,7 @@ Status SuperHelix::advance(double dt, double tolerance)
     sum.fieldDissipated += l.fieldDissipated;
     // The next sub-step from this one's ratio; one shortened only to land on the interval's
     // end does not hold back the next (at most twice the longer of the two).
-    h = std::max(0.2 * hs, std::min(hs * grow, 2 * std::max(h, hs)));
+    h = substeps::afterAccepted(hs, grow, h);
   }
   NextSubstep = std::min(h, dt);
   Energy.lastStep = sum;

@@ -263,6 +263,9 @@ public:
   /// leading local error of the semi-implicit step, and a bound far above that of the
   /// midpoint step (docs/super-helix.md, "Accuracy on request").
   double lastErrorEstimate() const { return LastError; }
+  /// The order p of lastErrorEstimate() in the step, e ∝ hᵖ: 3 after a BDF2 step (its own
+  /// local error), 2 otherwise (superhelix/SubstepControl.h sizes sub-steps with it).
+  int lastErrorPower() const { return LastErrorPower; }
 
   /// Asks the CPU to start loading this strand's samples into cache (no effect on results);
   /// stepStrands calls it for the next strand while it steps one.

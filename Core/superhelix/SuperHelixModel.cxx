@@ -1,4 +1,5 @@
 #include "superhelix/SuperHelixModel.h"
+#include "superhelix/SubstepControl.h"
 
 #include "common/Parallel.h"
 #include "superhelix/Centerline.h"
@@ -517,12 +518,9 @@ Status SuperHelixModel::advanceTo(double target)
       double h = remaining;
       if (Options.tolerance > 0)
       {
-        h = std::max(NextCoupledStep > 0 ? std::min(NextCoupledStep, dt) : dt,
-                     dt / SuperHelix::MaxSubsteps);
-        if (h >= remaining * (1 - 1e-9))
-          h = remaining;
-        else if (h > 0.5 * remaining)
-          h = 0.5 * remaining;
+        h = substeps::land(std::max(NextCoupledStep > 0 ? std::min(NextCoupledStep, dt) : dt,
+                                    dt / SuperHelix::MaxSubsteps),
+                           remaining);
       }
       const double t0 = Time + i * dt + (dt - remaining);
       if (Status s = coupledStep(t0, h); !s)
@@ -534,14 +532,15 @@ Status SuperHelixModel::advanceTo(double target)
       remaining -= h;
       if (Options.tolerance > 0)
       {
-        double error = 0;
+        // The largest ratio, each strand's estimate of its own order in h (BDF2's O(h³)).
+        double grow = substeps::Growth;
         for (const SuperHelix& helix : Helices)
         {
-          error = std::max(error, helix.lastErrorEstimate());
+          grow =
+              std::min(grow, substeps::factor(helix.lastErrorEstimate() / (Options.tolerance * h),
+                                              helix.lastErrorPower()));
         }
-        const double ratio = error / (Options.tolerance * h);
-        const double grow = ratio > 0 ? 0.9 / ratio : 2.0;
-        NextCoupledStep = std::max(0.2 * h, std::min(h * grow, 2 * h));
+        NextCoupledStep = substeps::afterAccepted(h, grow, h);
       }
     }
   }
