@@ -39,6 +39,10 @@ struct DerSolverOptions
 /// Everything that defines a strand before it moves.
 struct DerSpec
 {
+  /// The largest rest curvature per node κ̄ l̄ (= 2 tan(φ/2)) validate() accepts: a natural
+  /// turning angle φ of 90° per node.
+  static constexpr double MaxRestTurn = 2.0;
+
   std::string name = "strand";
   int id = 0;
   std::vector<double> edgeLengths; ///< rest lengths |ē_j| [m], N = size() >= 2, each > 0

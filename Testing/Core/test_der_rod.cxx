@@ -402,6 +402,18 @@ TEST(DerRod, RefusesBadInput)
   spec.hair.radius = -1;
   EXPECT_FALSE(rod.initialize(spec).ok());
 
+  // A curl the edges cannot follow: the fuzzy preset (530 rad/m of helix, κ = 283 /m with
+  // its 5 % spread 297 /m) on 2 cm edges turns a node by 2 atan(2.97) = 143°; 15 edges over
+  // the 10 cm (ceil(297 · 0.1 / 2)) turn it by 89.5°, 14 by 93°.
+  spec = DerSpec::uniform(0.1, 5, HairParameters::preset(HairType::Fuzzy));
+  st = rod.initialize(spec);
+  ASSERT_FALSE(st.ok()) << "an unresolved curl";
+  EXPECT_NE(st.message().find("at least 15 edges"), std::string::npos) << st.message();
+  EXPECT_TRUE(
+      DerRod().initialize(DerSpec::uniform(0.1, 15, HairParameters::preset(HairType::Fuzzy))).ok());
+  EXPECT_FALSE(
+      DerRod().initialize(DerSpec::uniform(0.1, 14, HairParameters::preset(HairType::Fuzzy))).ok());
+
   EXPECT_FALSE(rod.step(1e-3).ok()) << "step before initialize";
 
   // A root that goes bad during the run: the step fails, names the time, keeps the state.
