@@ -38,7 +38,7 @@ struct GroomReport
   double drape = 0;
 };
 
-/// How sag-free rest shapes are found (superhelix/SagFree.h, projective/ProjectiveGroom.h).
+/// How sag-free rest shapes are found (groom/SagFree.h, projective/ProjectiveGroom.h).
 struct SagFreeOptions
 {
   /// Stable when the smallest eigenvalue of the potential's Hessian H exceeds this fraction

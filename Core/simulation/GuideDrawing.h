@@ -2,7 +2,7 @@
 // A stored frame of guides as the filters show it (Hair Simulation's output 0, Hair State
 // Reader's output), drawn by its model's registered drawer (simulation/ModelRegistry.h):
 // the Super-Helix again from q, q̇ and the root at any number of points per element with
-// the code its model writes frames with (superhelix/Centerline.h), the projective strands at
+// the code its model writes frames with (helix/Centerline.h), the projective strands at
 // their nodes; and the material frame at every point, which the interpolation of rendered
 // hair carries its offsets in. Frames without root poses (state files written without
 // /frames/root_frames) and frames of a model no one registered are shown as stored.

@@ -3,7 +3,7 @@
 #include "der/DerModel.h"
 #include "projective/ProjectiveModel.h"
 #include "simulation/Simulation.h"
-#include "superhelix/SuperHelixModel.h"
+#include "superhelixmodel/SuperHelixModel.h"
 
 #include <algorithm>
 #include <cctype>

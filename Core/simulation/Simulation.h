@@ -14,7 +14,7 @@
 #include "simulation/GuideDrawing.h"
 #include "simulation/ModelRegistry.h"
 #include "strands/GuideStrand.h"
-#include "superhelix/SuperHelixModel.h"
+#include "superhelixmodel/SuperHelixModel.h"
 
 #include <map>
 #include <memory>

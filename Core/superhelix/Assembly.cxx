@@ -5,7 +5,7 @@
 // elements: O(N²) with O(1) work per sample.
 #include "superhelix/SuperHelix.h"
 
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 #include "superhelix/StepKernels.h"
 #include "superhelix/SuperHelixInternal.h"
 

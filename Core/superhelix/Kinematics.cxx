@@ -5,7 +5,7 @@
 // (position, frame, velocity, jacobian, accelerationAtRest, polyline, samples).
 #include "superhelix/SuperHelix.h"
 
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include "superhelix/SubstepControl.h"
 #include "superhelix/SuperHelix.h"
 
-#include "superhelix/DenseLu.h"
+#include "helix/DenseLu.h"
 #include "superhelix/StepKernels.h"
 #include "superhelix/SuperHelixInternal.h"
 

@@ -8,11 +8,11 @@
 #include "contact/ContactResponse.h"
 #include "contact/HairHairContacts.h"
 #include "contact/NearField.h"
+#include "helix/HelixFunctions.h"
+#include "helix/Quadrature.h"
 #include "scene/AirField.h"
 #include "scene/RigidMotion.h"
 #include "strands/HairParameters.h"
-#include "superhelix/HelixFunctions.h"
-#include "superhelix/Quadrature.h"
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -60,7 +60,7 @@ struct StrandSpec
   HairParameters hair;
   std::uint32_t seed = 1; ///< for the natural-curvature variation
   /// The natural (rest) curvatures and twist, (τ, κ1, κ2) per element (3N values), when they
-  /// are not the hair type's helix: a sag-free rest shape (superhelix/SagFree.h). Empty: the
+  /// are not the hair type's helix: a sag-free rest shape (groom/SagFree.h). Empty: the
   /// helix of `hair` with its seeded variation.
   std::vector<double> restCurvature;
   Eigen::Vector3d gravity = Eigen::Vector3d(0, -9.81, 0);

@@ -6,7 +6,7 @@
 #include "superhelix/SuperHelix.h"
 
 #include "common/Multiversioning.h"
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 #include "superhelix/StepKernels.h"
 #include "superhelix/SuperHelixInternal.h"
 

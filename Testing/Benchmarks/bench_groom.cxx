@@ -6,9 +6,9 @@
 // Run: bench_groom --benchmark_min_time=1 --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
 #include "HeadShake.h"
-#include "superhelix/Centerline.h"
-#include "superhelix/CurveFit.h"
-#include "superhelix/SagFree.h"
+#include "groom/CurveFit.h"
+#include "groom/SagFree.h"
+#include "helix/Centerline.h"
 
 #include <benchmark/benchmark.h>
 

@@ -4,7 +4,7 @@
 // Run: bench_guide_drawing --benchmark_min_time=1 --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true      (docs/benchmarks.md)
 #include "HeadShake.h"
-#include "superhelix/Centerline.h"
+#include "helix/Centerline.h"
 
 #include <benchmark/benchmark.h>
 

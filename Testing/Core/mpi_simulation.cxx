@@ -14,7 +14,7 @@
 #include "simulation/GhostStrands.h"
 #include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
-#include "superhelix/SuperHelixModel.h"
+#include "superhelixmodel/SuperHelixModel.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// The Super-Helix step's dense solve, luSolveInPlace (Core/superhelix/DenseLu.h).
-#include "superhelix/DenseLu.h"
+// The Super-Helix step's dense solve, luSolveInPlace (Core/helix/DenseLu.h).
+#include "helix/DenseLu.h"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>

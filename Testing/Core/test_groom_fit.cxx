@@ -1,10 +1,10 @@
-// Guide curves fitted by a Super-Helix (superhelix/CurveFit.h): a curve that is itself a
+// Guide curves fitted by a Super-Helix (groom/CurveFit.h): a curve that is itself a
 // Super-Helix of N elements (a line, an arc, a helix, a general curled strand) is recovered
 // at the same N to round-off; a smooth curve that is none of them is approached at the
 // order derived in docs/super-helix.md ("Fitting a guide curve"): N⁻³.
+#include "groom/CurveFit.h"
+#include "helix/Centerline.h"
 #include "strands/GuideStrand.h"
-#include "superhelix/Centerline.h"
-#include "superhelix/CurveFit.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Sag-free rest shapes (superhelix/SagFree.h): a strand groomed straight and horizontal
+// Sag-free rest shapes (groom/SagFree.h): a strand groomed straight and horizontal
 // stays so under gravity for 10 s at dt = 1/30 s at every N from 1 to 20; the balance is
 // exact to round-off; the stability is the Hessian's, checked against the closed form for
 // one element; shapes that cannot be held are reported with the closest stable one.
@@ -6,9 +6,9 @@
 #include "SlopeTable.h"
 #include "collision/CollisionTable.h"
 #include "contact/BodyContacts.h"
+#include "groom/CurveFit.h"
+#include "groom/SagFree.h"
 #include "strands/GuideStrand.h"
-#include "superhelix/CurveFit.h"
-#include "superhelix/SagFree.h"
 
 #include <gtest/gtest.h>
 

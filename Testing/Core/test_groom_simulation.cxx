@@ -3,6 +3,7 @@
 // of both models holding a groom on the bundled body, and the state file that records the
 // groom and runs it again bit for bit.
 #include "ProjectiveScenes.h"
+#include "groom/CurveFit.h"
 #include "io/StateFile.h"
 #include "projective/ProjectiveGroom.h"
 #include "simulation/GuidesFromState.h"
@@ -11,7 +12,6 @@
 #include "strands/GuideCurves.h"
 #include "strands/GuideGrowth.h"
 #include "strands/RootSampling.h"
-#include "superhelix/CurveFit.h"
 
 #include <gtest/gtest.h>
 

@@ -4,12 +4,12 @@
 // rest root frame turned by the head's motion, for both models, at rest and during a shake;
 // a version 3 state file (states and nodes) redraws its frames at any resolution as the run
 // draws them, for both models, and a file without root poses reads at its stored points.
+#include "helix/Centerline.h"
 #include "io/StateFormat.h"
 #include "model/StrandPoints.h"
 #include "simulation/GuideDrawing.h"
 #include "simulation/Simulation.h"
 #include "strands/StrandParameters.h"
-#include "superhelix/Centerline.h"
 
 #include "HeadShake.h"
 

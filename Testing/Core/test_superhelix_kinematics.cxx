@@ -2,7 +2,7 @@
 // model, each checked against an independent computation: finite differences of the
 // reconstruction (allowed in tests only), brute-force quadrature, and the analytic helix.
 #include "HeadShake.h"
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

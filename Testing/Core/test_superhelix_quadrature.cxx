@@ -1,5 +1,5 @@
-// The Gauss–Legendre rules and the per-element choice of a rule (Core/superhelix/Quadrature).
-#include "superhelix/Quadrature.h"
+// The Gauss–Legendre rules and the per-element choice of a rule (Core/helix/Quadrature).
+#include "helix/Quadrature.h"
 #include "superhelix/SuperHelix.h"
 
 #include <gtest/gtest.h>

@@ -44,7 +44,7 @@ Status fitSuperHelix(const std::vector<Eigen::Vector3d>& curve, const Eigen::Vec
 
 /// The centreline of the Super-Helix (q, rootFrame, root, equal elements of `length` / N) at
 /// arc lengths `s` (each clamped to [0, length]): the fit's own forward map, for tests and
-/// reports (drawSuperHelix, superhelix/Centerline.h, draws the same curve at equal steps).
+/// reports (drawSuperHelix, helix/Centerline.h, draws the same curve at equal steps).
 void superHelixPoints(const Eigen::VectorXd& q, const Eigen::Matrix3d& rootFrame,
                       const Eigen::Vector3d& root, double length, const std::vector<double>& s,
                       std::vector<Eigen::Vector3d>& points);

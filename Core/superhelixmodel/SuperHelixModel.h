@@ -6,10 +6,10 @@
 #include "contact/HairGrid.h"
 #include "contact/HairHairContacts.h"
 #include "contact/NearField.h"
+#include "helix/Quadrature.h"
 #include "model/GroomReport.h"
 #include "model/GuideDrawing.h"
 #include "model/StrandModel.h"
-#include "superhelix/Quadrature.h"
 #include "superhelix/SuperHelix.h"
 
 #include <vector>

@@ -4,10 +4,10 @@
 // coordinate, the root tangent and the length at once, each curve point measured from its
 // foot point on the strand (orthogonal distance). docs/super-helix.md, "Fitting a guide
 // curve", gives the choices and the expected order.
-#include "superhelix/CurveFit.h"
+#include "groom/CurveFit.h"
 
+#include "helix/HelixFunctions.h"
 #include "strands/GuideStrand.h"
-#include "superhelix/HelixFunctions.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>

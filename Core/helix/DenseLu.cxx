@@ -1,4 +1,4 @@
-#include "superhelix/DenseLu.h"
+#include "helix/DenseLu.h"
 
 #include "common/Multiversioning.h"
 

@@ -1,6 +1,6 @@
-#include "superhelix/Centerline.h"
+#include "helix/Centerline.h"
 
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "superhelix/HelixFunctions.h"
+#include "helix/HelixFunctions.h"
 
 #include <cmath>
 #include <cstring>

@@ -1,10 +1,10 @@
 // The Super-Helix model's drawer (simulation/ModelRegistry.cxx): its strands drawn again
 // from q, q̇ and the root at any number of points per element with the code its frames are
-// written with (superhelix/Centerline.h).
+// written with (helix/Centerline.h).
 #include "common/Parallel.h"
+#include "helix/Centerline.h"
 #include "model/StrandPoints.h"
-#include "superhelix/Centerline.h"
-#include "superhelix/SuperHelixModel.h"
+#include "superhelixmodel/SuperHelixModel.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "superhelix/Quadrature.h"
+#include "helix/Quadrature.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
-#include "superhelix/SuperHelixModel.h"
+#include "superhelixmodel/SuperHelixModel.h"
 #include "superhelix/SubstepControl.h"
 
 #include "common/Parallel.h"
-#include "superhelix/Centerline.h"
-#include "superhelix/CurveFit.h"
-#include "superhelix/SagFree.h"
+#include "groom/CurveFit.h"
+#include "groom/SagFree.h"
+#include "helix/Centerline.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,9 +2,9 @@
 // generalized force (SuperHelix::assemble) and the contacts' forces summed through the
 // Jacobian at the same quadrature samples; the stability of the result from H's smallest
 // eigenvalue; the closest stable shape by settling the strand with raised damping.
-#include "superhelix/SagFree.h"
+#include "groom/SagFree.h"
 
-#include "superhelix/CurveFit.h"
+#include "groom/CurveFit.h"
 
 #include <Eigen/Eigenvalues>
 
