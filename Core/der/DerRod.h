@@ -179,6 +179,11 @@ private:
                    std::vector<Eigen::Triplet<double>>* hessian) const;
   StencilData stencil(int node) const;
   Status solveStep(double h, Eigen::VectorXd& q, Step& s, int& iterations) const;
+  /// The second-order correction of a Newton trial q + α p (nodes 2 … N, root outwards):
+  /// each edge keeps the trial's direction and takes the length the linearized step gives it,
+  /// |e| + α t·(p_k − p_{k−1}), instead of the longer chord a rotation's linear step gives.
+  void correctStretch(const Eigen::VectorXd& q, const Eigen::VectorXd& p, double alpha,
+                      Eigen::VectorXd& trial) const;
   void updateStateEnergies(DerEnergyReport& e) const;
   std::string where(double t0, double t1) const;
 
