@@ -394,12 +394,12 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
   r.gateMemory = c.gateMemory;
   r.model = name(model);
   r.file = file;
-  // As the demo's runs; the rods at 64 edges: the fuzzy preset's curl on the demo's 30 cm
-  // strands needs 46 (DerSpec::MaxRestTurn), but at 48 (86° a node) a fuzzy strand's Newton
-  // solve failed within 1 s of this shake, at 64 (70°) and 96 it held 10 s.
-  const int elements = model == ModelType::SuperHelix            ? 10
-                       : model == ModelType::DiscreteElasticRods ? 64
-                                                                 : 40;
+  // The model's number for the demo's guides of the run's presets, the largest (the rods'
+  // depends on the curl: 65 edges for the fuzzy preset, DerModel::edgesFor).
+  int elements = 1;
+  for (HairType preset : c.presets)
+    elements = std::max(
+        elements, findModel(model)->elementsFor(HairParameters::preset(preset), DemoGuideLength));
   std::vector<GuideStrand> guides;
   Status s = demoGuides(body, c.strands, elements, c.presets, guides);
   Scene scene = demoScene(body);

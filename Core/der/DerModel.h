@@ -61,6 +61,13 @@ public:
                         double& fitError);
   const std::vector<DerRod>& rods() const { return Rods; }
 
+  /// The edges a guide of `hair` and `length` gets when a tool is asked for no number: at
+  /// least 20, and enough for its curl to turn a node by at most 70° (κ̄ l̄ <= RobustTurn),
+  /// with a margin on the 90° that DerSpec::validate accepts: on the head under the soak's
+  /// shake a fuzzy strand at 86° a node failed within 1 s and held 10 s at 70°
+  /// (docs/discrete-elastic-rods.md, "What is missing").
+  static int edgesFor(const HairParameters& hair, double length);
+  static constexpr double RobustTurn = 1.4; ///< 2 tan(35°): 70° a node
   /// How many times a step that does not converge is halved before the run stops.
   static constexpr int MaxHalvings = 6;
 

@@ -9,6 +9,7 @@
 #include "common/Status.h"
 #include "model/GuideDrawing.h"
 #include "model/StrandModel.h"
+#include "strands/HairParameters.h"
 
 #include <memory>
 #include <string>
@@ -37,6 +38,9 @@ struct ModelEntry
   std::unique_ptr<StrandModel> (*make)(const SimulationOptions& options);
   /// Draws its frames (drawGuides); null: its frames are shown as stored.
   DrawFrame draw;
+  /// The number of elements the tools give a guide of `hair` and `length` [m] when they are
+  /// asked for none (hair_study demo, hair_soak).
+  int (*elementsFor)(const HairParameters& hair, double length);
 };
 
 /// Every registered model, in the order of their values.

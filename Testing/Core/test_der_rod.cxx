@@ -3,6 +3,7 @@
 // Euler's buckling load, the analytic helix of a natural Darboux vector, and the energy
 // budget's closure. Each tolerance says where it comes from; the measured errors and orders
 // are printed for docs/discrete-elastic-rods.md.
+#include "der/DerModel.h"
 #include "der/DerRod.h"
 
 #include <gtest/gtest.h>
@@ -362,6 +363,33 @@ TEST(DerRod, GreenhillTwistedShaftConverges)
 }
 
 // 8. Bad input is refused with a message that names it; the strand keeps its state.
+// The edges the tools give a guide (DerModel::edgesFor): the fewest, at least 20, with which
+// the guide's rod (edges of L/(N − ½), DerModel::specFor) turns a node by at most 70°
+// (κ̄ l̄ <= RobustTurn), its curvature spread included; each is accepted by validate, and
+// for the curly ones one edge fewer turns a node by more.
+TEST(DerModel, EdgesForTheToolsResolveTheCurlWithTheMeasuredMargin)
+{
+  for (HairType type : {HairType::Smooth, HairType::Wavy, HairType::Curly, HairType::Fuzzy})
+    for (double length : {0.1, 0.3, 0.6})
+    {
+      const HairParameters hair = HairParameters::preset(type);
+      const Eigen::Vector3d natural = hair.naturalCurvature();
+      const double kappa =
+          (1 + hair.curvatureVariation) * std::hypot(natural[1], natural[2]); // [1/m]
+      const int n = DerModel::edgesFor(hair, length);
+      auto turn = [&](int edges) { return kappa * length / (edges - 0.5); };
+      EXPECT_GE(n, 20);
+      EXPECT_LE(turn(n), DerModel::RobustTurn) << int(type) << " " << length;
+      if (n > 20)
+        EXPECT_GT(turn(n - 1), DerModel::RobustTurn) << int(type) << " " << length;
+      DerSpec spec = DerSpec::uniform(length * n / (n - 0.5), n, hair);
+      EXPECT_TRUE(spec.validate().ok()) << spec.validate().message();
+    }
+  // The demo's guides (30 cm): wavy 23, fuzzy 65 (hair_study demo, hair_soak).
+  EXPECT_EQ(DerModel::edgesFor(HairParameters::preset(HairType::Wavy), 0.3), 23);
+  EXPECT_EQ(DerModel::edgesFor(HairParameters::preset(HairType::Fuzzy), 0.3), 65);
+}
+
 TEST(DerRod, RefusesBadInput)
 {
   DerRod rod;

@@ -27,12 +27,12 @@ Status demoGuides(const BundledBody& body, int count, int elements,
     }
   }
   GrowthOptions grow;
-  grow.length = 0.30;
+  grow.length = DemoGuideLength;
   grow.elements = elements;
   grow.combed = true;
   grow.combDirection = Eigen::Vector3d(0, -1, -0.3);
   grow.combWeight = 0.35;
-  grow.hair = HairParameters::preset(HairType::Wavy);
+  grow.hair = HairParameters::preset(DemoHairType);
   return growGuides(roots, grow, guides);
 }
 

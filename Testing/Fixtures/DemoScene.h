@@ -15,6 +15,10 @@
 namespace hair
 {
 
+/// The demo guides' length [m] and hair type.
+constexpr double DemoGuideLength = 0.30;
+constexpr HairType DemoHairType = HairType::Wavy;
+
 /// `count` guides of `elements` elements (10 for the Super-Helix run, 40 for the
 /// projective one).
 Status demoGuides(const BundledBody& body, int count, int elements,

@@ -16,9 +16,8 @@ int demo(const Arguments& args)
 {
   const int strands = args.integer("strands");
   const ModelType type = args.model("model");
-  const int n = args.integer("n", type == ModelType::Projective            ? 40
-                                  : type == ModelType::DiscreteElasticRods ? 20
-                                                                           : 10);
+  const int n = args.integer(
+      "n", findModel(type)->elementsFor(HairParameters::preset(DemoHairType), DemoGuideLength));
   const double duration = args.number("duration"), dt = args.number("dt");
   const int threads = args.integer("threads");
   Status s;
@@ -68,8 +67,10 @@ Study demoStudy()
   return {"demo", "the demo's scene on the bundled body through Simulation, stored as a state file",
           Keys{outKey("<h5>"), integerKey("strands", "200", 1, 10000, "guides on the scalp"),
                modelKey("model", "projective", "the strand model"),
-               integerKey("n", "40 (projective), 20 (discrete-elastic-rods), 10 (super-helix)", 1,
-                          400, "elements per guide")
+               integerKey("n",
+                          "the model's for the demo's guides: 10 (super-helix), 40 (projective), "
+                          "23 (discrete-elastic-rods)",
+                          1, 400, "elements per guide")
                    .computedDefault(),
                numberKey("duration", "5", 1.0 / 30, 1000, "s"),
                numberKey("dt", "1/30", 1e-6, 1.0 / 30, "s, the model's step"),
