@@ -79,10 +79,9 @@ DerModel::DerModel(const BodyContactParameters& contacts, const DerSolverOptions
 
 int DerModel::edgesFor(const HairParameters& hair, double length)
 {
-  const Eigen::Vector3d natural = hair.naturalCurvature();
-  const double kappa = (1 + std::abs(hair.curvatureVariation)) * std::hypot(natural[1], natural[2]);
   // Edges of L/(N − ½) (specFor): κ L/(N − ½) <= RobustTurn.
-  return std::max(20, static_cast<int>(std::ceil(kappa * length / RobustTurn + 0.5)));
+  return std::max(
+      20, static_cast<int>(std::ceil(hair.largestNaturalBending() * length / RobustTurn + 0.5)));
 }
 
 double DerModel::stepFor(const RunSettings& run)

@@ -165,14 +165,13 @@ Status DerSpec::validate() const
   // error (~ φ²/12) passes 20 %, and the twists' Newton solve stalls near the fold (24
   // mixed demo guides of 5 edges: the fuzzy preset's 530 rad/m turned by 160° per edge).
   {
-    const Eigen::Vector3d natural = hair.naturalCurvature();
-    const double spread = 1 + std::abs(hair.curvatureVariation);
+    const double helix = hair.largestNaturalBending();
     double worst = 0, kappa = 0;
     std::size_t node = 0;
     for (std::size_t i = 1; i < n; ++i)
     {
       const double k = restStrains.empty()
-                           ? spread * std::hypot(natural[1], natural[2])
+                           ? helix
                            : std::hypot(restStrains[3 * (i - 1) + 1], restStrains[3 * (i - 1) + 2]);
       const double turn = k * 0.5 * (edgeLengths[i - 1] + edgeLengths[i]);
       if (turn > worst)

@@ -172,4 +172,10 @@ Eigen::Vector3d HairParameters::naturalCurvature() const
   return Eigen::Vector3d(c / d, helixRadius / d, 0.0);
 }
 
+double HairParameters::largestNaturalBending() const
+{
+  const Eigen::Vector3d natural = naturalCurvature();
+  return (1 + std::abs(curvatureVariation)) * std::hypot(natural[1], natural[2]);
+}
+
 } // namespace hair

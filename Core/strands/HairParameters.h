@@ -52,6 +52,9 @@ struct HairParameters
   /// (τⁿ, κ1ⁿ, κ2ⁿ) of the helix of radius helixRadius that advances helixStep per turn
   /// (exact helix geometry; the paper §4.2 names these two parameters).
   Eigen::Vector3d naturalCurvature() const;
+  /// The largest natural bending curvature |(κ1ⁿ, κ2ⁿ)| an element can be given, its seeded
+  /// variation included: (1 + |curvatureVariation|) times the helix's [1/m].
+  double largestNaturalBending() const;
 };
 
 } // namespace hair

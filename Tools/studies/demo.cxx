@@ -62,16 +62,24 @@ int demo(const Arguments& args)
 
 namespace hair::tools
 {
+/// The default of n= as the usage shows it: each model's number for the demo's guides
+/// (ModelEntry::elementsFor), "10 (super-helix), 40 (projective), …".
+static std::string demoElements()
+{
+  std::string text;
+  for (const ModelEntry& m : registeredModels())
+    text += (text.empty() ? "" : ", ") +
+            std::to_string(m.elementsFor(HairParameters::preset(DemoHairType), DemoGuideLength)) +
+            " (" + m.name + ")";
+  return text;
+}
+
 Study demoStudy()
 {
   return {"demo", "the demo's scene on the bundled body through Simulation, stored as a state file",
           Keys{outKey("<h5>"), integerKey("strands", "200", 1, 10000, "guides on the scalp"),
                modelKey("model", "projective", "the strand model"),
-               integerKey("n",
-                          "the model's for the demo's guides: 10 (super-helix), 40 (projective), "
-                          "23 (discrete-elastic-rods)",
-                          1, 400, "elements per guide")
-                   .computedDefault(),
+               integerKey("n", demoElements(), 1, 400, "elements per guide").computedDefault(),
                numberKey("duration", "5", 1.0 / 30, 1000, "s"),
                numberKey("dt", "1/30", 1e-6, 1.0 / 30, "s, the model's step"),
                integerKey("threads", "2", 1, 256, "threads"),
