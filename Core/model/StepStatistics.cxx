@@ -17,8 +17,9 @@ void reduceStepStatistics(std::map<std::string, double>& values,
   // Every statistic the rules name, then those without a rule (the same on every rank only
   // if the models report the same names: a model reports the same names on every rank).
   std::vector<StepStatisticRule> all = rules;
-  for (const auto& [name, value] : values)
+  for (const auto& entry : values)
   {
+    const std::string& name = entry.first;
     const bool ruled = std::any_of(rules.begin(), rules.end(),
                                    [&](const StepStatisticRule& r) { return r.name == name; });
     if (!ruled)
