@@ -422,22 +422,22 @@ bool vtkHairSimulation::Build(vtkInformationVector** inputVector)
   o.contacts.staticFriction = this->StaticFrictionCoefficient;
   o.contacts.thickness = this->ContactThickness;
   o.contacts.slipVelocity = this->SlipVelocity;
-  sh.hairHairEnabled = this->HairHairContacts != HAIR_HAIR_OFF;
-  if (sh.hairHairEnabled)
+  o.hairHair.enabled = this->HairHairContacts != HAIR_HAIR_OFF;
+  if (o.hairHair.enabled)
   {
     // Any other value is refused by the options' validation, with the values it takes.
-    sh.hairHairSolver = static_cast<hair::HairHairSolver>(this->HairHairContacts);
+    o.hairHair.solver = static_cast<hair::HairHairSolver>(this->HairHairContacts);
   }
-  sh.hairGrid.volumeFraction = this->HairVolumeFraction;
-  sh.hairGrid.volume = this->HairVolume;
-  sh.hairGrid.friction = this->HairGridFriction;
-  sh.hairGrid.cellSize = this->HairGridCellSize;
-  sh.hairHair.thickness = this->HairContactThickness;
-  sh.hairHair.stiffness = this->HairContactStiffness;
-  sh.hairHair.damping = this->HairContactDamping;
-  sh.hairHair.friction = this->HairFrictionCoefficient;
-  sh.hairHair.iterations = this->HairContactIterations;
-  sh.hairHair.perLength = this->HairContactPerLength;
+  o.hairHair.grid.volumeFraction = this->HairVolumeFraction;
+  o.hairHair.grid.volume = this->HairVolume;
+  o.hairHair.grid.friction = this->HairGridFriction;
+  o.hairHair.grid.cellSize = this->HairGridCellSize;
+  o.hairHair.pairs.thickness = this->HairContactThickness;
+  o.hairHair.pairs.stiffness = this->HairContactStiffness;
+  o.hairHair.pairs.damping = this->HairContactDamping;
+  o.hairHair.pairs.friction = this->HairFrictionCoefficient;
+  o.hairHair.pairs.iterations = this->HairContactIterations;
+  o.hairHair.pairs.perLength = this->HairContactPerLength;
 
   // Frames stay in memory while the run fits in the budget; a longer run with a state file
   // keeps only the newest frames in memory and reads the others back from the file; without

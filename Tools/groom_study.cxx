@@ -307,7 +307,7 @@ int main(int argc, char** argv)
       o.threads = threads;
       // Each strand balanced on its own, as the sag-free rest shape is (no hair–hair term in
       // the balance): the grid's volume would push a groom packed above its rest fraction.
-      o.superHelix.hairHairEnabled = false;
+      o.hairHair.enabled = false;
       GrowthOptions grow;
       grow.elements = elements;
       grow.hair = HairParameters::preset(presets.at(presetName));

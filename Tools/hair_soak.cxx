@@ -416,7 +416,7 @@ Result run(ModelType model, const std::string& file, const BundledBody& body, co
   o.timeStep = c.step;
   o.frameInterval = c.interval;
   o.threads = c.threads;
-  o.superHelix.hairHairEnabled = c.hairHair; // the projective model has no hair–hair contacts
+  o.hairHair.enabled = c.hairHair; // the projective model has no hair–hair contacts
   StorageOptions storage;
   storage.stateFile = file;
   storage.replaceStateFile = true;       // the soak run writes its own output again

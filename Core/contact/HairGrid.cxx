@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace hair
@@ -399,6 +400,28 @@ void HairGrid::respond(const Eigen::Vector3d& x, double rhoS, double area,
       push *= limit / norm;
     out.push += push;
   }
+}
+
+void HairGrid::build(const std::vector<Strand>& strands, double h, const Ranks& ranks, int threads)
+{
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  double clump = 0;
+  for (const Strand& st : strands)
+  {
+    for (int j = 0; j < st.count; ++j)
+    {
+      lo = lo.cwiseMin(st.x[j]);
+      hi = hi.cwiseMax(st.x[j]);
+    }
+    clump = std::max(clump, st.area);
+  }
+  ranks.min(lo.data(), 3);
+  ranks.max(hi.data(), 3);
+  clump = ranks.max(clump);
+  begin(lo, hi, automaticCell(clump), h);
+  add(strands, std::max(1, threads));
+  finish(ranks, std::max(1, threads));
 }
 
 } // namespace hair

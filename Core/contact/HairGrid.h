@@ -115,6 +115,11 @@ public:
   /// The pressure is solved on up to `threads` threads.
   void finish(const Ranks& ranks = Ranks(), int threads = 1);
 
+  /// A step's grid in one call (collective over `ranks`): begin() over the bounds of every
+  /// rank's strands with the automatic cell of the largest clump among them, add() and
+  /// finish(), on up to `threads` threads. The same grid on any number of ranks.
+  void build(const std::vector<Strand>& strands, double h, const Ranks& ranks, int threads);
+
   /// The response at a point x of a strand of linear density rhoS [kg/m] (one fibre's) which
   /// stands for fibres of cross-section `area` [m²] (add()'s), added to `out` (drag, medium, push;
   /// ContactResponse). Thread-safe (reads only).

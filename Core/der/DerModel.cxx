@@ -72,8 +72,9 @@ double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 }
 } // namespace
 
-DerModel::DerModel(const BodyContactParameters& contacts, const DerSolverOptions& solver)
-    : ContactLaw(contacts), Solver(solver)
+DerModel::DerModel(const BodyContactParameters& contacts, const HairHairOptions& hairHair,
+                   const DerSolverOptions& solver)
+    : ContactLaw(contacts), HairHair(hairHair), Solver(solver)
 {
 }
 
@@ -174,6 +175,33 @@ Status DerModel::initialize(const std::vector<GuideStrand>& guides, const Scene&
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
+  if (Status s = HairHair.validate(); !s)
+  {
+    return s;
+  }
+  if (HairHair.enabled && HairHair.solver != HairHairSolver::Grid)
+  {
+    // The near field and the coupled pairs step the strands together through the
+    // Super-Helix's compliance (contact/HairHairContacts, contact/NearField).
+    return Status::Error(std::string("hair–hair interaction: the ") + toString(HairHair.solver) +
+                         " solver is not available for the discrete-elastic-rods model: it "
+                         "has the grid's volume and friction. Choose the grid (Hair Hair "
+                         "Contacts = Grid) or none, or run the Super-Helix model.");
+  }
+  if (HairHair.usesGrid())
+  {
+    if (Status s = Grid.setParameters(HairHair.grid); !s)
+    {
+      return Status::Error("hair–hair interaction: " + s.message());
+    }
+    // A guide stands for the head's fibres shared among the run's guides (every rank's).
+    const double count = run.ranks.sum(static_cast<double>(guides.size()));
+    ClumpArea.resize(guides.size());
+    for (std::size_t k = 0; k < guides.size(); ++k)
+    {
+      ClumpArea[k] = guideClumpArea(guides[k].hair.radius, count);
+    }
+  }
   Rods.assign(guides.size(), DerRod());
   Anchors.assign(guides.size(), {});
   Built = guides;
@@ -249,14 +277,57 @@ Status DerModel::initialize(const std::vector<GuideStrand>& guides, const Scene&
 void DerModel::respond(std::size_t k, double t, const std::vector<StrandSample>& samples,
                        std::vector<ContactResponse>& response) const
 {
-  if (!Body.parameters().enabled || World.parts.empty())
+  const double rhoS = Rods[k].spec().hair.linearDensity();
+  if (Body.parameters().enabled && !World.parts.empty())
   {
-    return;
+    thread_local std::vector<PosedPart> parts; // no allocation after the first call
+    World.posedParts(t, parts);
+    Body.respond(samples, rhoS, parts.data(), static_cast<int>(parts.size()), response, nullptr,
+                 &Anchors[k]);
   }
-  thread_local std::vector<PosedPart> parts; // no allocation after the first call
-  World.posedParts(t, parts);
-  Body.respond(samples, Rods[k].spec().hair.linearDensity(), parts.data(),
-               static_cast<int>(parts.size()), response, nullptr, &Anchors[k]);
+  if (HairHair.usesGrid())
+  {
+    for (std::size_t j = 0; j < samples.size(); ++j)
+    {
+      Grid.respond(samples[j].position, rhoS, ClumpArea[k], response[j]);
+    }
+  }
+}
+
+void DerModel::buildGrid(double h)
+{
+  // Each rod's polyline from its root through nodes 1 … N (node 0 lies behind the root,
+  // inside the clamp), on the run's threads.
+  GridPoints.resize(Rods.size());
+  GridVelocities.resize(Rods.size());
+  parallelBlocks(static_cast<std::int64_t>(Rods.size()), 16, std::max(1, Run.threads),
+                 [&](std::int64_t b0, std::int64_t b1)
+                 {
+                   for (std::int64_t k = b0; k < b1; ++k)
+                   {
+                     const DerRod& rod = Rods[k];
+                     const int n = rod.edgeCount();
+                     const RootState root = rod.rootState(rod.time());
+                     std::vector<Eigen::Vector3d>& x = GridPoints[k];
+                     std::vector<Eigen::Vector3d>& v = GridVelocities[k];
+                     x.resize(n + 1);
+                     v.resize(n + 1);
+                     x[0] = root.position;
+                     v[0] = root.velocity;
+                     for (int j = 1; j <= n; ++j)
+                     {
+                       x[j] = rod.position(j);
+                       v[j] = rod.velocity(j);
+                     }
+                   }
+                 });
+  std::vector<HairGrid::Strand> strands(Rods.size());
+  for (std::size_t k = 0; k < Rods.size(); ++k)
+  {
+    strands[k] = {GridPoints[k].data(), GridVelocities[k].data(),
+                  static_cast<int>(GridPoints[k].size()), ClumpArea[k], Built[k].length};
+  }
+  Grid.build(strands, h, Run.ranks, Run.threads);
 }
 
 Status DerModel::stepRod(DerRod& rod, double h, int depth, double& iterations)
@@ -282,6 +353,12 @@ Status DerModel::advanceTo(double target)
   std::vector<double> iterations(Rods.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
+    if (HairHair.usesGrid())
+    {
+      // Once a step, from every rank's rods (collective); a step halved goes through the
+      // same grid.
+      buildGrid(Step);
+    }
     parallelBlocks(static_cast<std::int64_t>(Rods.size()), 1, Run.threads,
                    [&](std::int64_t begin, std::int64_t end)
                    {
@@ -290,12 +367,21 @@ Status DerModel::advanceTo(double target)
                        failed[k] = stepRod(Rods[k], Step, 0, iterations[k]);
                      }
                    });
+    Status mine = Status::Ok();
     for (const Status& s : failed)
     {
       if (!s)
       {
-        return s;
+        mine = s;
+        break;
       }
+    }
+    // The grid is built by every rank at every step (collective): when a rod failed on any
+    // rank, all stop at this step, the others with Ok so that the run reports the failure's
+    // own rank and message (Simulation::advanceTo agrees on it).
+    if (HairHair.usesGrid() ? Run.ranks.any(!mine) : !mine)
+    {
+      return mine;
     }
     ++Steps;
     // Every rod's own clock; the model's is the steps taken (no drift between strands).
@@ -347,6 +433,10 @@ void DerModel::describe(StateHeader& header) const
   at["contact_stiffness"] = c.stiffness;
   at["contact_damping"] = c.dampingRatio;
   at["contact_thickness"] = c.thickness;
+  for (const auto& [key, value] : HairHair.gridAttributes(Grid.cellSize()))
+  {
+    at[key] = value;
+  }
   at["friction_coefficient"] = c.friction;
   at["friction_anisotropy"] = c.anisotropy;
   at["static_friction_coefficient"] = c.staticFriction;
@@ -421,6 +511,8 @@ EnergyBudget DerModel::energy() const
     sum.total.rootWork += t.rootWork;
     sum.total.windWork += t.windWork;
     sum.total.contactWork += t.contactWork;
+    sum.total.fieldWork += t.fieldWork;
+    sum.total.fieldDissipated += t.fieldDissipated;
     sum.total.residual += t.residual;
   }
   EnergyBudget b;
@@ -431,7 +523,18 @@ EnergyBudget DerModel::energy() const
   b.add("air_dissipated", EnergyKind::Dissipation, sum.total.airDissipated);
   b.add("root_work", EnergyKind::Work, sum.total.rootWork);
   b.add("wind_work", EnergyKind::Work, sum.total.windWork);
-  b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  if (HairHair.usesGrid())
+  {
+    // The rods' contact work holds the grid's drag and push: reported apart, as the work of
+    // its forces plus what its drag dissipated, and that dissipation (as the Super-Helix's).
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork - sum.total.fieldWork);
+    b.add(energy::HairGridWork, EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
+    b.add(energy::HairGridDissipated, EnergyKind::Dissipation, sum.total.fieldDissipated);
+  }
+  else
+  {
+    b.add("contact_work", EnergyKind::Work, sum.total.contactWork);
+  }
   b.add(energy::Residual, EnergyKind::Residual, sum.total.residual);
   return b;
 }

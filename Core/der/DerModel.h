@@ -2,8 +2,11 @@
 // Discrete Elastic Rods (Bergou et al. 2008, 2010; der/DerRod.h) behind the StrandModel seam:
 // each guide a rod of `elements` edges clamped at its root, stepped by backward Euler in
 // whole steps of at most the run's time step per frame, against the body's parts through
-// the run's contact law (contact/BodyContacts.h). docs/discrete-elastic-rods.md.
+// the run's contact law (contact/BodyContacts.h), and with each other through the far field's
+// grid (contact/HairGrid.h). docs/discrete-elastic-rods.md.
 #include "contact/BodyContacts.h"
+#include "contact/HairGrid.h"
+#include "contact/HairHairOptions.h"
 #include "der/DerRod.h"
 #include "model/GroomReport.h"
 #include "model/GuideDrawing.h"
@@ -18,13 +21,15 @@ class DerModel final : public StrandModel
 {
 public:
   /// `contacts`: the run's body contact law (SimulationOptions::contacts); its lookAhead is
-  /// set to the step.
+  /// set to the step. `hairHair`: the run's hair–hair interaction
+  /// (SimulationOptions::hairHair), the grid or none (initialize refuses the Super-Helix's
+  /// pair solvers by name).
   explicit DerModel(const BodyContactParameters& contacts = {},
-                    const DerSolverOptions& solver = {});
+                    const HairHairOptions& hairHair = {}, const DerSolverOptions& solver = {});
 
   const char* name() const override { return "discrete-elastic-rods"; }
   /// Refuses a guide of fewer than 2 elements and a sag-free rest shape (not available for
-  /// this model yet), naming the strand.
+  /// this model yet), naming the strand; and a hair–hair solver other than the grid.
   Status initialize(const std::vector<GuideStrand>& guides, const Scene& scene,
                     const RunSettings& run) override;
   Status advanceTo(double t) override;
@@ -60,6 +65,8 @@ public:
   static Status specFor(const GuideStrand& guide, const Scene& scene, DerSpec& spec,
                         double& fitError);
   const std::vector<DerRod>& rods() const { return Rods; }
+  /// The far field of the last step (when SimulationOptions::hairHair uses the grid).
+  const HairGrid& hairGrid() const { return Grid; }
 
   /// The edges a guide of `hair` and `length` gets when a tool is asked for no number: at
   /// least 20, and enough for its curl to turn a node by at most 70° (κ̄ l̄ <= RobustTurn),
@@ -76,9 +83,19 @@ private:
   void respond(std::size_t k, double t, const std::vector<StrandSample>& samples,
                std::vector<ContactResponse>& response) const;
 
+  /// The far field's grid for a step of h from every rod's root and nodes 1 … N now,
+  /// summed over the ranks (collective).
+  void buildGrid(double h);
+
   BodyContactParameters ContactLaw;
+  HairHairOptions HairHair;
   DerSolverOptions Solver;
   BodyContacts Body;
+  HairGrid Grid;
+  /// Per rod: the cross-section of the fibres it stands for (the grid's volume) [m²], and
+  /// the polyline and velocities buildGrid splats.
+  std::vector<double> ClumpArea;
+  std::vector<std::vector<Eigen::Vector3d>> GridPoints, GridVelocities;
   Scene World;
   RunSettings Run;
   double Step = 1.0 / 30;

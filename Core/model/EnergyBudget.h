@@ -29,6 +29,10 @@ constexpr const char* Gravitational = "gravitational";
 constexpr const char* Dissipated = "dissipated";      ///< Σ of the dissipation terms
 constexpr const char* ExternalWork = "external_work"; ///< Σ of the work terms
 constexpr const char* Residual = "residual";
+/// The far field of hair–hair interaction (contact/HairGrid), apart from the body's contact
+/// work: the work of its forces plus what its drag dissipated, and that dissipation.
+constexpr const char* HairGridWork = "hair_grid_work";
+constexpr const char* HairGridDissipated = "hair_grid_dissipated";
 } // namespace energy
 
 class EnergyBudget

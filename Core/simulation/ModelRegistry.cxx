@@ -17,6 +17,7 @@ std::unique_ptr<StrandModel> makeSuperHelix(const SimulationOptions& options)
 {
   SuperHelixOptions superHelix = options.superHelix;
   superHelix.contacts = options.contacts;
+  superHelix.hairHair = options.hairHair;
   superHelix.sagFree = options.sagFree;
   return std::make_unique<SuperHelixModel>(superHelix);
 }
@@ -36,7 +37,7 @@ std::unique_ptr<StrandModel> makeProjective(const SimulationOptions& options)
 
 std::unique_ptr<StrandModel> makeDer(const SimulationOptions& options)
 {
-  return std::make_unique<DerModel>(options.contacts);
+  return std::make_unique<DerModel>(options.contacts, options.hairHair);
 }
 
 // The Super-Helix's elements are exact helices whatever the curl: 10 (3 cm on the demo's

@@ -5,6 +5,7 @@
 // (memory, state file, read-back).
 #include "common/Progress.h"
 #include "common/Status.h"
+#include "contact/HairHairOptions.h"
 #include "io/StateFile.h"
 #include "model/StrandModel.h"
 #include "projective/ProjectiveStrands.h"
@@ -38,7 +39,13 @@ struct SimulationOptions
   /// it (Coulomb's law with static friction only: on with μ, μ_s and the anisotropy when
   /// μ_s > 0, off otherwise; its normal response is its own reaction constraint).
   BodyContactParameters contacts;
-  SuperHelixOptions superHelix; ///< read by the Super-Helix model only (not its contacts)
+  /// Hair–hair interaction, for every model that has it (docs/hair-hair-interaction.md): the
+  /// grid's volume and friction by default, for the Super-Helix and the discrete elastic
+  /// rods; the near field and the coupled pairs are the Super-Helix's. The projective
+  /// model has none and runs without it.
+  HairHairOptions hairHair;
+  SuperHelixOptions
+      superHelix; ///< read by the Super-Helix model only (not its contacts, hair–hair)
   ProjectiveOptions projective; ///< read by the projective model only (not its step, threads)
   SagFreeOptions sagFree;       ///< for guides whose rest shape is sag-free, either model
 

@@ -14,20 +14,6 @@
 namespace hair
 {
 
-const char* toString(HairHairSolver solver)
-{
-  switch (solver)
-  {
-  case HairHairSolver::Grid:
-    return "grid";
-  case HairHairSolver::GridAndNearField:
-    return "grid and near field";
-  case HairHairSolver::Coupled:
-    return "coupled";
-  }
-  return "unknown";
-}
-
 Status SuperHelixOptions::validate() const
 {
   // The strands check the same range (StrandSpec::validate); this message names the
@@ -59,35 +45,9 @@ Status SuperHelixOptions::validate() const
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
-  if (hairHairEnabled)
+  if (Status s = hairHair.validate(); !s)
   {
-    const int solver = static_cast<int>(hairHairSolver);
-    if (solver < 1 || solver > 3)
-    {
-      return Status::Error("the hair–hair solver " + std::to_string(solver) +
-                           " is not one: give 1 (coupled pairs), 2 (grid) or 3 (grid and near "
-                           "field).");
-    }
-    if (Status s = hairHair.validate(); !s)
-    {
-      return Status::Error("hair–hair contacts: " + s.message());
-    }
-    if (hairHairSolver != HairHairSolver::Coupled)
-    {
-      if (Status s = hairGrid.validate(); !s)
-      {
-        return Status::Error("hair–hair interaction: " + s.message());
-      }
-    }
-    if (hairHairSolver == HairHairSolver::GridAndNearField)
-    {
-      NearFieldParameters nf = nearField;
-      nf.thickness = 1e-3; // resolved from hairHair.thickness at initialize()
-      if (Status s = nf.validate(); !s)
-      {
-        return Status::Error("hair–hair interaction: " + s.message());
-      }
-    }
+    return s;
   }
   return Status::Ok();
 }
@@ -110,23 +70,23 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   {
     return Status::Error("hair–body contacts: " + s.message());
   }
-  if (Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Grid &&
+  if (Options.hairHair.enabled && Options.hairHair.solver != HairHairSolver::Grid &&
       run.ranks.parallel())
   {
     // The pairs would be found among each rank's own strands only: a run that silently
     // differs from the same run on one rank. The grid is summed over the ranks; the pairs
     // do not use the ghost strands yet (docs/mpi.md, "Hair–hair interaction across ranks").
     return Status::Error(std::string("hair–hair interaction: the ") +
-                         toString(Options.hairHairSolver) +
+                         toString(Options.hairHair.solver) +
                          " solver is not available under "
                          "MPI yet (" +
                          std::to_string(run.ranks.size()) +
                          " ranks): each rank would only see pairs among its own strands. Choose "
                          "the grid (Hair Hair Contacts = Grid), or run on one rank.");
   }
-  if (Options.hairHairEnabled)
+  if (Options.hairHair.enabled)
   {
-    HairHairParameters hh = Options.hairHair;
+    HairHairParameters hh = Options.hairHair.pairs;
     hh.threads = std::max(1, run.threads);
     // The run's guides (every rank's share) and their mean fibre radius: a guide stands for
     // HeadFibres / guides fibres.
@@ -146,12 +106,12 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
     {
       return Status::Error("hair–hair contacts: " + s.message());
     }
-    if (Options.hairHairSolver == HairHairSolver::GridAndNearField)
+    if (Options.hairHair.solver == HairHairSolver::GridAndNearField)
     {
       // The near field keeps guides from crossing, not apart by their clumps' width (the
       // grid's volume does that): its automatic distance is a quarter of the clump's.
-      NearFieldParameters nf = Options.nearField;
-      nf.thickness = Options.hairHair.thickness > 0 ? hh.thickness : 0.25 * hh.thickness;
+      NearFieldParameters nf = Options.hairHair.nearField;
+      nf.thickness = Options.hairHair.pairs.thickness > 0 ? hh.thickness : 0.25 * hh.thickness;
       nf.threads = std::max(1, run.threads);
       if (Status s = Near.setParameters(nf); !s)
       {
@@ -159,20 +119,18 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
       }
       Near.reset();
     }
-    if (Options.hairHairSolver != HairHairSolver::Coupled)
+    if (Options.hairHair.solver != HairHairSolver::Coupled)
     {
-      if (Status s = Grid.setParameters(Options.hairGrid); !s)
+      if (Status s = Grid.setParameters(Options.hairHair.grid); !s)
       {
         return Status::Error("hair–hair interaction: " + s.message());
       }
       // A guide stands for a head's fibres shared among the guides (HeadFibres / guides,
       // as the automatic thickness): their cross-section is its volume per unit length.
       ClumpArea.resize(guides.size());
-      const double fibres = HairHairParameters::HeadFibres / count;
       for (std::size_t k = 0; k < guides.size(); ++k)
       {
-        const double r = guides[k].hair.radius;
-        ClumpArea[k] = fibres * M_PI * r * r;
+        ClumpArea[k] = guideClumpArea(guides[k].hair.radius, count);
       }
     }
   }
@@ -423,35 +381,18 @@ void SuperHelixModel::buildGrid(double h)
                      }
                    }
                  });
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d hi = -lo;
   std::vector<HairGrid::Strand> strands(Helices.size());
   for (std::size_t k = 0; k < Helices.size(); ++k)
   {
-    for (const Eigen::Vector3d& x : GridPoints[k])
-    {
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
     strands[k] = {GridPoints[k].data(), GridVelocities[k].data(),
                   static_cast<int>(GridPoints[k].size()), ClumpArea[k], Helices[k].length()};
   }
-  // The automatic cell (HairGrid::automaticCell): from the fibres a guide stands for. The
-  // same grid on every rank: the bounds and the cell of the whole run.
-  double clump = 0;
-  for (double a : ClumpArea)
-    clump = std::max(clump, a);
-  Run.ranks.min(lo.data(), 3);
-  Run.ranks.max(hi.data(), 3);
-  clump = Run.ranks.max(clump);
-  Grid.begin(lo, hi, Grid.automaticCell(clump), h);
-  Grid.add(strands, std::max(1, Run.threads));
-  Grid.finish(Run.ranks, std::max(1, Run.threads));
+  Grid.build(strands, h, Run.ranks, Run.threads);
 }
 
 Status SuperHelixModel::coupledStep(double t0, double h)
 {
-  if (Options.hairHairSolver == HairHairSolver::Coupled)
+  if (Options.hairHair.solver == HairHairSolver::Coupled)
   {
     if (Status s = stepStrandsWithContacts(Helices, HairHair, h, Run.threads); !s)
     {
@@ -490,15 +431,19 @@ Status SuperHelixModel::advanceTo(double target)
   FrameError.assign(Helices.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
-    if (!Options.hairHairEnabled || Options.hairHairSolver == HairHairSolver::Grid)
+    if (!Options.hairHair.enabled || Options.hairHair.solver == HairHairSolver::Grid)
     {
       // The grid, when on, is built once per step: each strand takes its own sub-steps
       // through it. The tolerance is per second of simulated time: each step gets its share.
-      if (Options.hairHairEnabled)
+      if (Options.hairHair.enabled)
       {
         buildGrid(dt);
       }
-      if (Status s = stepStrands(Helices, dt, Run.threads, Options.tolerance * dt); !s)
+      // With the grid (built by every rank at every step, collectively), when a strand
+      // failed on any rank all stop at this step, the others with Ok, so that the run
+      // reports the failure's own rank and message (Simulation::advanceTo agrees on it).
+      const Status s = stepStrands(Helices, dt, Run.threads, Options.tolerance * dt);
+      if (Options.hairHair.enabled ? Run.ranks.any(!s) : !s)
       {
         return s;
       }
@@ -621,25 +566,19 @@ void SuperHelixModel::describe(StateHeader& header) const
   at["static_friction_coefficient"] = c.staticFriction;
   at["contact_thickness"] = c.thickness;
   at["slip_velocity"] = c.slipVelocity;
-  at["hair_hair_contacts"] = Options.hairHairEnabled ? static_cast<int>(Options.hairHairSolver) : 0;
-  if (usesGrid())
+  for (const auto& [key, value] : Options.hairHair.gridAttributes(Grid.cellSize()))
   {
-    at["hair_hair_head_fibres"] = HairHairParameters::HeadFibres;
-    at["hair_volume_fraction"] = Options.hairGrid.volumeFraction;
-    at["hair_volume"] = Options.hairGrid.volume;
-    at["hair_volume_iterations"] = Options.hairGrid.iterations;
-    at["hair_grid_friction"] = Options.hairGrid.friction;
-    at["hair_grid_cell_size"] = Grid.cellSize(); // as used (the automatic one when 0)
+    at[key] = value;
   }
-  if (Options.hairHairEnabled && Options.hairHairSolver == HairHairSolver::GridAndNearField)
+  if (Options.hairHair.enabled && Options.hairHair.solver == HairHairSolver::GridAndNearField)
   {
     at["hair_hair_thickness"] = Near.parameters().thickness;
-    at["hair_near_field_margin"] = Options.nearField.margin;
-    at["hair_near_field_sweeps"] = Options.nearField.sweeps;
+    at["hair_near_field_margin"] = Options.hairHair.nearField.margin;
+    at["hair_near_field_sweeps"] = Options.hairHair.nearField.sweeps;
   }
-  else if (Options.hairHairEnabled && Options.hairHairSolver == HairHairSolver::Coupled)
+  else if (Options.hairHair.enabled && Options.hairHair.solver == HairHairSolver::Coupled)
   {
-    const HairHairParameters& h = Options.hairHair;
+    const HairHairParameters& h = Options.hairHair.pairs;
     at["hair_hair_thickness"] = HairHairThickness;
     at["hair_hair_stiffness"] = h.stiffness;
     at["hair_hair_damping"] = h.damping;
@@ -746,14 +685,14 @@ EnergyBudget SuperHelixModel::energy() const
     // the pairs' as their work. Works − dissipations is unchanged.
     b.add("contact_work", EnergyKind::Work,
           sum.total.contactWork - sum.total.fieldWork - HairHairWork);
-    b.add("hair_grid_work", EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
-    b.add("hair_grid_dissipated", EnergyKind::Dissipation, sum.total.fieldDissipated);
-    if (Options.hairHairSolver == HairHairSolver::GridAndNearField)
+    b.add(energy::HairGridWork, EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
+    b.add(energy::HairGridDissipated, EnergyKind::Dissipation, sum.total.fieldDissipated);
+    if (Options.hairHair.solver == HairHairSolver::GridAndNearField)
     {
       b.add("hair_hair_work", EnergyKind::Work, HairHairWork);
     }
   }
-  else if (Options.hairHairEnabled)
+  else if (Options.hairHair.enabled)
   {
     // The strands' contact work holds the hair–hair forces' work too: reported apart, as
     // the work of the penalty (what the pairs' forces did, less what their damping and
@@ -785,9 +724,9 @@ constexpr std::size_t AnchorValues = 6;
 
 std::string SuperHelixModel::continuationRefusal() const
 {
-  if (Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Grid)
+  if (Options.hairHair.enabled && Options.hairHair.solver != HairHairSolver::Grid)
   {
-    return std::string("its hair–hair interaction (the ") + toString(Options.hairHairSolver) +
+    return std::string("its hair–hair interaction (the ") + toString(Options.hairHair.solver) +
            " solver) keeps the pairs of the last step, which the state file does not hold: "
            "only runs with the grid or without hair–hair interaction are resumed";
   }

@@ -5,6 +5,7 @@
 #include "contact/BodyContacts.h"
 #include "contact/HairGrid.h"
 #include "contact/HairHairContacts.h"
+#include "contact/HairHairOptions.h"
 #include "contact/NearField.h"
 #include "helix/Quadrature.h"
 #include "model/GroomReport.h"
@@ -16,25 +17,6 @@
 
 namespace hair
 {
-
-/// How the guides interact with each other (docs/hair-hair-interaction.md). The values are
-/// Hair Simulation's Hair Hair Contacts (0 there: off) and the state file's
-/// hair_hair_contacts attribute.
-enum class HairHairSolver
-{
-  /// The far field on a grid (contact/HairGrid): every strand's volume and friction with
-  /// the hair around it, at a fraction of the step's cost, on any number of ranks.
-  Grid = 2,
-  /// The grid and the near field against crossing (contact/NearField): pairs of pieces
-  /// tracked over time, pushed back along their side when they touch or flip. One rank.
-  GridAndNearField = 3,
-  /// Every close pair solved together with the step, with Coulomb friction
-  /// (contact/HairHairContacts): for small studies; tens of times the step on a head. One
-  /// rank.
-  Coupled = 1
-};
-/// "grid", "grid and near field", "coupled" (messages).
-const char* toString(HairHairSolver solver);
 
 struct SuperHelixOptions
 {
@@ -56,16 +38,11 @@ struct SuperHelixOptions
   /// Hair–body contacts against the scene's parts (docs/superhelix-contacts.md); a run sets
   /// it from SimulationOptions::contacts. `lookAhead` is set to the time step by the model.
   BodyContactParameters contacts;
-  /// Hair–hair interaction between the guides (docs/hair-hair-interaction.md), by
-  /// `hairHairSolver`: the grid's volume and friction (the default), with the near field's
-  /// pairs against crossing, or every close pair solved with the step
-  /// (docs/hair-hair-contacts.md). `hairHair.thickness` is the contact distance of the pairs
-  /// (0: automatic); the rest of `hairHair` is the coupled solve's.
-  bool hairHairEnabled = true;
-  HairHairSolver hairHairSolver = HairHairSolver::Grid;
-  HairHairParameters hairHair;
-  HairGridParameters hairGrid;   ///< the far field (Grid, GridAndNearField)
-  NearFieldParameters nearField; ///< the near field (GridAndNearField)
+  /// Hair–hair interaction between the guides (docs/hair-hair-interaction.md): the grid's
+  /// volume and friction (the default), with the near field's pairs against crossing, or
+  /// every close pair solved with the step (docs/hair-hair-contacts.md); a run sets it from
+  /// SimulationOptions::hairHair.
+  HairHairOptions hairHair;
   /// How sag-free rest shapes are found (guides whose restShape is SagFree); a run sets it
   /// from SimulationOptions::sagFree.
   SagFreeOptions sagFree;
@@ -151,10 +128,7 @@ private:
   /// The far field's grid for a step of h from every strand's samples now, summed over
   /// the ranks (collective).
   void buildGrid(double h);
-  bool usesGrid() const
-  {
-    return Options.hairHairEnabled && Options.hairHairSolver != HairHairSolver::Coupled;
-  }
+  bool usesGrid() const { return Options.hairHair.usesGrid(); }
   /// One step of h from t0 of every strand with the pairs asked for: the coupled solve, or
   /// the grid and the near field (the grid alone is stepped by advanceTo).
   Status coupledStep(double t0, double h);

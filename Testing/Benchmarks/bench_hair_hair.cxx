@@ -54,9 +54,9 @@ void BM_Frame(benchmark::State& state)
   SimulationOptions o;
   o.threads = threads;
   o.contacts.enabled = true;
-  o.superHelix.hairHairEnabled = mode != 0;
+  o.hairHair.enabled = mode != 0;
   if (mode != 0)
-    o.superHelix.hairHairSolver = static_cast<HairHairSolver>(mode);
+    o.hairHair.solver = static_cast<HairHairSolver>(mode);
   Simulation sim;
   Status st = sim.initialize(guides, demoScene(body()), o);
   if (st)
@@ -115,7 +115,7 @@ const TwoFrames& twoFrames(int count)
   SimulationOptions o;
   o.threads = 2;
   o.contacts.enabled = true;
-  o.superHelix.hairHairEnabled = false;
+  o.hairHair.enabled = false;
   Simulation sim;
   if (f.status)
     f.status = sim.initialize(guides, demoScene(body()), o);

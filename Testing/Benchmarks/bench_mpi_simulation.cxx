@@ -69,7 +69,7 @@ int main(int argc, char** argv)
   o.threads = threads;
   o.ranks = world;
   o.contacts.enabled = true;
-  o.superHelix.hairHairEnabled = !noGrid;
+  o.hairHair.enabled = !noGrid;
   StorageOptions storage;
   storage.stateFile = state == "-" ? "" : state;
   storage.replaceStateFile = true;

@@ -283,6 +283,20 @@ SimulationOptions optionsFor(ModelType model)
   o.contacts.enabled = true;
   return o;
 }
+
+/// A test's name for the model: its label's letters and digits ("DiscreteElasticRods").
+std::string modelTestName(ModelType model)
+{
+  std::string name;
+  for (const char* c = findModel(model)->label; *c; ++c)
+  {
+    if (std::isalnum(static_cast<unsigned char>(*c)))
+    {
+      name += *c;
+    }
+  }
+  return name;
+}
 } // namespace
 
 TEST(Partition, RangesOfTheCurveBalanceWeightsInCompactParts)
@@ -639,18 +653,8 @@ std::vector<ModelType> everyModel()
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryModel, RankIndependence, ::testing::ValuesIn(everyModel()),
-                         [](const auto& info)
-                         {
-                           std::string name;
-                           for (const char* c = findModel(info.param)->label; *c; ++c)
-                           {
-                             if (std::isalnum(static_cast<unsigned char>(*c)))
-                             {
-                               name += *c;
-                             }
-                           }
-                           return name;
-                         });
+                         [](const ::testing::TestParamInfo<ModelType>& info)
+                         { return modelTestName(info.param); });
 
 TEST(StepStatistics, TheEnergyTablesStatisticsAreTheWholeRuns)
 {
@@ -808,48 +812,61 @@ TEST(Failures, AStrandThatBlowsUpOnOneRankStopsEveryRank)
     GTEST_SKIP() << "needs 2 ranks";
   }
   const std::vector<GuideStrand> guides = mixedGuides(8, 5);
-  SimulationOptions o = optionsFor(ModelType::SuperHelix);
-  o.ranks = world;
-  // Strand 5 gets a NaN force from t = 0.15 s on: its step fails on the rank that has it.
-  o.superHelix.additionalContacts = [](int strand, double t, const std::vector<StrandSample>&,
-                                       std::vector<ContactResponse>& response)
+  // One step a frame, and three: then strand 5 fails at the frame's second step, and the
+  // other ranks, whose strands stepped, must stop there too rather than build the next
+  // step's grid (collective) without it. The grid is on (the default).
+  struct Case
   {
-    if (strand == 5 && t > 0.15)
-    {
-      response[0].force.x() = std::nan("");
-    }
+    double frameInterval, failAfter;
+    int kept; // frames 0 … kept − 1: the hook is asked at the start of each step
   };
-  const std::string file = temp("failed.h5");
-  StorageOptions storage;
-  storage.stateFile = file;
-  storage.replaceStateFile = true;
-  storage.frames = 30;
-  Simulation sim;
-  ASSERT_TRUE(sim.initialize(guides, demoScene(body()), o, storage).ok());
-  std::unique_ptr<StrandModel> model;
-  ASSERT_TRUE(makeModel(o, model).ok());
-  const std::vector<int> owner = shareStrands(guides, *model, world.size());
-  const Status s = sim.advanceTo(30);
-  ASSERT_FALSE(s.ok());
-  // Every rank stops, with the message of the rank that has strand 5.
-  EXPECT_EQ(s.message().rfind("rank " + std::to_string(owner[5]) + " of " +
-                                  std::to_string(world.size()) + ": ",
-                              0),
-            0u)
-      << s.message();
-  EXPECT_NE(s.message().find("strand 5"), std::string::npos) << s.message();
-  const int kept = sim.numberOfFrames();
-  // Frames 0 … 5: the hook is asked at the start of each step, t > 0.15 s first at 5/30 s.
-  EXPECT_EQ(kept, 6);
-  EXPECT_EQ(sim.advanceTo(31).message(), s.message()); // it stays stopped, on every rank
-  EXPECT_EQ(sim.numberOfFrames(), kept);
-  world.barrier();
-  if (world.rank() == 0)
+  for (const Case c : {Case{1.0 / 30, 0.15, 6}, Case{0.1, 0.12, 2}})
   {
-    StateFileReader r;
-    ASSERT_TRUE(r.open(file).ok());
-    EXPECT_EQ(r.numberOfFrames(), kept);
-    EXPECT_EQ(r.version(), 3);
+    SimulationOptions o = optionsFor(ModelType::SuperHelix);
+    ASSERT_TRUE(o.hairHair.usesGrid());
+    o.ranks = world;
+    o.frameInterval = c.frameInterval;
+    // Strand 5 gets a NaN force from failAfter on: its step fails on the rank that has it.
+    o.superHelix.additionalContacts = [c](int strand, double t, const std::vector<StrandSample>&,
+                                          std::vector<ContactResponse>& response)
+    {
+      if (strand == 5 && t > c.failAfter)
+      {
+        response[0].force.x() = std::nan("");
+      }
+    };
+    const std::string file = temp("failed.h5");
+    StorageOptions storage;
+    storage.stateFile = file;
+    storage.replaceStateFile = true;
+    storage.frames = 30;
+    Simulation sim;
+    ASSERT_TRUE(sim.initialize(guides, demoScene(body()), o, storage).ok());
+    std::unique_ptr<StrandModel> model;
+    ASSERT_TRUE(makeModel(o, model).ok());
+    const std::vector<int> owner = shareStrands(guides, *model, world.size());
+    const Status s = sim.advanceTo(30);
+    ASSERT_FALSE(s.ok());
+    // Every rank stops, with the message of the rank that has strand 5.
+    EXPECT_EQ(s.message().rfind("rank " + std::to_string(owner[5]) + " of " +
+                                    std::to_string(world.size()) + ": ",
+                                0),
+              0u)
+        << s.message();
+    EXPECT_NE(s.message().find("strand 5"), std::string::npos) << s.message();
+    const int kept = sim.numberOfFrames();
+    EXPECT_EQ(kept, c.kept) << c.frameInterval;
+    EXPECT_EQ(sim.advanceTo(31).message(), s.message()); // it stays stopped, on every rank
+    EXPECT_EQ(sim.numberOfFrames(), kept);
+    world.barrier();
+    if (world.rank() == 0)
+    {
+      StateFileReader r;
+      ASSERT_TRUE(r.open(file).ok());
+      EXPECT_EQ(r.numberOfFrames(), kept);
+      EXPECT_EQ(r.version(), 3);
+    }
+    world.barrier();
   }
 }
 
@@ -867,8 +884,8 @@ TEST(Failures, HairHairPairsAreRefusedOnMoreThanOneRank)
   for (HairHairSolver solver : {HairHairSolver::GridAndNearField, HairHairSolver::Coupled})
   {
     SimulationOptions o = optionsFor(ModelType::SuperHelix);
-    o.superHelix.hairHairEnabled = true;
-    o.superHelix.hairHairSolver = solver;
+    o.hairHair.enabled = true;
+    o.hairHair.solver = solver;
     o.ranks = world;
     Simulation sim;
     const Status s = sim.initialize(guides, demoScene(body()), o, StorageOptions());
@@ -886,7 +903,11 @@ TEST(Failures, HairHairPairsAreRefusedOnMoreThanOneRank)
   }
 }
 
-TEST(HairGrid, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberOfRanks)
+class GridRanks : public ::testing::TestWithParam<ModelType>
+{
+};
+
+TEST_P(GridRanks, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberOfRanks)
 {
   // 60 of the demo's guides, close on the scalp so that the grid acts (its friction
   // dissipates and its pressure works), 15 frames of the shake on 1, 2 and 4 ranks: each
@@ -897,10 +918,18 @@ TEST(HairGrid, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberOfRa
   {
     GTEST_SKIP() << "needs 4 ranks (mpirun -np 4)";
   }
-  const std::vector<GuideStrand> guides = mixedGuides(60, 5);
-  SimulationOptions o = optionsFor(ModelType::SuperHelix);
-  ASSERT_TRUE(o.superHelix.hairHairEnabled);
-  ASSERT_EQ(o.superHelix.hairHairSolver, HairHairSolver::Grid);
+  // Every model with the grid: the Super-Helix at 5 elements, the rods at 20 edges,
+  // smooth and wavy (as RankIndependence).
+  const ModelType model = GetParam();
+  const bool rods = model == ModelType::DiscreteElasticRods;
+  std::vector<GuideStrand> guides = mixedGuides(60, rods ? 20 : 5);
+  for (std::size_t k = 0; rods && k < guides.size(); ++k)
+  {
+    guides[k].hair = HairParameters::preset(k % 2 ? HairType::Wavy : HairType::Smooth);
+  }
+  const SimulationOptions o = optionsFor(model);
+  ASSERT_TRUE(o.hairHair.enabled);
+  ASSERT_EQ(o.hairHair.solver, HairHairSolver::Grid);
   std::map<int, Outcome> runs;
   for (int n : {1, 2, 4})
   {
@@ -927,11 +956,16 @@ TEST(HairGrid, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberOfRa
     EXPECT_EQ(largestDifference(runs[1], runs[n]), 0.0) << n << " ranks";
     expectSameEnergy(runs[1], runs[n], guides.size());
   }
-  std::printf("the grid on 1, 2 and 4 ranks: largest difference 0; dissipated %.3g J, work "
-              "%.3g J\n",
-              runs[1].table.at("hair_grid_dissipated").back(),
+  std::printf("%s: the grid on 1, 2 and 4 ranks: largest difference 0; dissipated %.3g J, "
+              "work %.3g J\n",
+              findModel(model)->name, runs[1].table.at("hair_grid_dissipated").back(),
               runs[1].table.at("hair_grid_work").back());
 }
+
+INSTANTIATE_TEST_SUITE_P(ModelsWithTheGrid, GridRanks,
+                         ::testing::Values(ModelType::SuperHelix, ModelType::DiscreteElasticRods),
+                         [](const ::testing::TestParamInfo<ModelType>& info)
+                         { return modelTestName(info.param); });
 
 TEST(Failures, AFrameOneRankRefusesIsWrittenByNone)
 {

@@ -59,7 +59,7 @@ TEST(Golden, DemoSummaryOfTheSuperHelixRun)
   ASSERT_TRUE(demoGuides(body, 200, 10, guides).ok());
   SimulationOptions o;
   o.threads = 2;
-  o.superHelix.hairHairEnabled = false;
+  o.hairHair.enabled = false;
   Simulation sim;
   ASSERT_TRUE(sim.initialize(guides, demoScene(body), o).ok());
   ASSERT_TRUE(sim.advanceTo(151).ok());

@@ -239,7 +239,7 @@ TEST(GroomSimulation, SettledStraightHairRunsAgainAsItsGroom)
   ASSERT_TRUE(growGuides(roots, grow, grown));
   SimulationOptions o;
   o.threads = 2;
-  o.superHelix.hairHairEnabled = false;
+  o.hairHair.enabled = false;
   Simulation settle;
   ASSERT_TRUE(settle.initialize(grown, stillScene(), o));
   ASSERT_TRUE(settle.advanceTo(91));

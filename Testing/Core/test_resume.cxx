@@ -430,7 +430,7 @@ TEST(Resume, ARunWhosePairsTheFileDoesNotKeepIsRefused)
   Case c = superHelix();
   c.strands = guides(6, 6);
   c.frames = 4;
-  c.options.superHelix.hairHairSolver = HairHairSolver::GridAndNearField;
+  c.options.hairHair.solver = HairHairSolver::GridAndNearField;
   const std::string file = temp("pairs.h5");
   ASSERT_TRUE(runTo(c, file, 2).ok());
   const std::string m = refusal(c, file);

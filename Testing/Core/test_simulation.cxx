@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -405,9 +406,9 @@ TEST(Simulation, HairHairContactsKeepGuidesApart)
     SimulationOptions o;
     o.timeStep = 1.0 / 30;
     o.frameInterval = 1.0 / 30;
-    o.superHelix.hairHairEnabled = hairHair;
-    o.superHelix.hairHairSolver = HairHairSolver::Coupled; // the penalty's distance
-    o.superHelix.hairHair.thickness = 2.5e-3; // two guides: the automatic one would be 17 mm
+    o.hairHair.enabled = hairHair;
+    o.hairHair.solver = HairHairSolver::Coupled; // the penalty's distance
+    o.hairHair.pairs.thickness = 2.5e-3;         // two guides: the automatic one would be 17 mm
     Simulation sim;
     status = sim.initialize(g, {}, o);
     if (status)
@@ -430,8 +431,8 @@ TEST(Simulation, HairHairContactsKeepGuidesApart)
   EXPECT_LT(without, 0.0035) << without;
   // Bad hair–hair parameters are refused by name.
   SimulationOptions o;
-  o.superHelix.hairHairEnabled = true;
-  o.superHelix.hairHair.thickness = -1;
+  o.hairHair.enabled = true;
+  o.hairHair.pairs.thickness = -1;
   Simulation sim;
   const Status bad = sim.initialize(guides(2, 4), {}, o);
   EXPECT_FALSE(bad.ok());
@@ -454,9 +455,9 @@ TEST(Simulation, HairHairContactsWithAToleranceTakeCommonSubsteps)
     SimulationOptions o;
     o.timeStep = 1.0 / 30;
     o.frameInterval = 1.0 / 30;
-    o.superHelix.hairHairEnabled = true;
-    o.superHelix.hairHairSolver = HairHairSolver::Coupled;
-    o.superHelix.hairHair.thickness = 2.5e-3;
+    o.hairHair.enabled = true;
+    o.hairHair.solver = HairHairSolver::Coupled;
+    o.hairHair.pairs.thickness = 2.5e-3;
     o.superHelix.tolerance = tolerance;
     Simulation sim;
     status = sim.initialize(g, sceneWith(headMotion(RigidMotion::Kind::Shake, 0.5, 1.0)), o);
@@ -628,4 +629,103 @@ TEST(Simulation, RunsWhoseModelCannotFitAreRefusedBeforeAllocating)
   o.model = ModelType::Projective;
   g.elements = 100;
   EXPECT_FALSE(checkRunMemory(std::vector<GuideStrand>(100000, g), o, 8e9).ok());
+}
+
+namespace
+{
+/// A clump hanging from a small disc: `count` straight guides, 20 cm, roots on a sunflower
+/// pattern filling a disc of radius `disc` [m] at y = 1.6, growing straight down, fibres of
+/// 25 µm. Run for `frames` frames of `model` with the grid of 4 mm cells or without
+/// hair–hair interaction; gives the tips' mean distance from the clump's axis at the end
+/// and the run's energy table.
+struct ClumpOutcome
+{
+  Status status;
+  double tipRadius = 0;
+  std::map<std::string, double> energy;
+};
+
+ClumpOutcome hangingClump(ModelType model, bool grid, int count, double disc, int frames)
+{
+  std::vector<GuideStrand> g(count);
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  for (int k = 0; k < count; ++k)
+  {
+    const double r = disc * std::sqrt((k + 0.5) / count), a = golden * k;
+    g[k].root = Eigen::Vector3d(r * std::cos(a), 1.6, r * std::sin(a));
+    g[k].growth = Eigen::Vector3d(0, -1, 0);
+    g[k].normal = Eigen::Vector3d(1, 0, 0);
+    g[k].length = 0.2;
+    g[k].hair = HairParameters::preset(HairType::Smooth);
+    g[k].hair.radius = 25e-6;
+    g[k].elements = findModel(model)->elementsFor(g[k].hair, g[k].length);
+  }
+  SimulationOptions o;
+  o.model = model;
+  o.hairHair.enabled = grid;
+  o.hairHair.solver = HairHairSolver::Grid;
+  o.hairHair.grid.cellSize = 0.004;
+  ClumpOutcome out;
+  Simulation sim;
+  out.status = sim.initialize(g, {}, o);
+  if (out.status)
+    out.status = sim.advanceTo(frames + 1);
+  if (!out.status)
+    return out;
+  const StateFrame& f = sim.frame(frames);
+  for (int k = 0; k < count; ++k)
+  {
+    const Eigen::Vector3d& tip = f.positions[sim.header().offsets[k + 1] - 1];
+    out.tipRadius += std::hypot(tip.x(), tip.z()) / count;
+  }
+  out.energy = sim.model().energy().values();
+  return out;
+}
+} // namespace
+
+TEST(Simulation, TheGridGivesTheSuperHelixAndTheRodsTheSameVolume)
+{
+  // 40 guides hang from a 6 mm disc: each stands for 3000 of a head's 120 000 fibres of
+  // 25 µm, together 2.4 cm² of cross-section, which at the rest fraction φ0 = 0.05 fills a
+  // disc of R0 = 3.9 cm. Without hair–hair interaction they hang straight: the tips' mean
+  // distance from the axis is the roots', (2/3) 6 mm. With the grid the pressure keeps the
+  // hair from packing above φ0 and the clump fans out, up to R0 (beyond it the hair is below
+  // φ0 and nothing pushes). The grid is one continuum whichever model's strands fill it:
+  // after 1.5 s the Super-Helix's and the rods' fans agree within one cell (4 mm, the
+  // scale the grid resolves), and each fans out by more than a cell.
+  const int count = 40, frames = 45;
+  const double disc = 0.006, cell = 0.004;
+  const double area = guideClumpArea(25e-6, count) * count;
+  const double R0 = std::sqrt(area / (M_PI * 0.05));
+  std::map<std::pair<ModelType, bool>, ClumpOutcome> runs;
+  for (ModelType model : {ModelType::SuperHelix, ModelType::DiscreteElasticRods})
+    for (bool grid : {false, true})
+    {
+      const ClumpOutcome run = hangingClump(model, grid, count, disc, frames);
+      ASSERT_TRUE(run.status.ok()) << run.status.message();
+      runs[std::make_pair(model, grid)] = run;
+    }
+  const double hanging = 2.0 / 3 * disc;
+  for (ModelType model : {ModelType::SuperHelix, ModelType::DiscreteElasticRods})
+  {
+    const ClumpOutcome& without = runs[std::make_pair(model, false)];
+    const ClumpOutcome& with = runs[std::make_pair(model, true)];
+    EXPECT_NEAR(without.tipRadius, hanging, 0.02 * hanging) << findModel(model)->name;
+    EXPECT_GT(with.tipRadius, without.tipRadius + cell) << findModel(model)->name;
+    EXPECT_LT(with.tipRadius, R0 + cell) << findModel(model)->name;
+    // The grid's forces worked and its drag dissipated, reported apart from the body's.
+    EXPECT_GT(with.energy.at("hair_grid_dissipated"), 0) << findModel(model)->name;
+    EXPECT_NE(with.energy.at("hair_grid_work"), 0) << findModel(model)->name;
+    EXPECT_EQ(without.energy.count("hair_grid_work"), 0u) << findModel(model)->name;
+  }
+  const double sh = runs[std::make_pair(ModelType::SuperHelix, true)].tipRadius;
+  const double der = runs[std::make_pair(ModelType::DiscreteElasticRods, true)].tipRadius;
+  EXPECT_NEAR(sh, der, cell);
+  RecordProperty("tip_radius_super_helix_mm", std::to_string(1e3 * sh));
+  RecordProperty("tip_radius_rods_mm", std::to_string(1e3 * der));
+  std::printf("tips' mean distance from the axis after 1.5 s: hanging %.2f mm; with the grid "
+              "Super-Helix %.2f mm, rods %.2f mm (R0 %.1f mm); without, %.2f and %.2f mm\n",
+              1e3 * hanging, 1e3 * sh, 1e3 * der, 1e3 * R0,
+              1e3 * runs[std::make_pair(ModelType::SuperHelix, false)].tipRadius,
+              1e3 * runs[std::make_pair(ModelType::DiscreteElasticRods, false)].tipRadius);
 }

@@ -31,7 +31,7 @@ Status runAccuracyScene(const BundledBody& body, const std::vector<GuideStrand>&
   o.threads = threads;
   o.timeStep = o.frameInterval / perFrame;
   o.contacts.enabled = bodyContacts;
-  o.superHelix.hairHairEnabled = grid;
+  o.hairHair.enabled = grid;
   o.superHelix.integrator = integrator;
   o.superHelix.tolerance = tolerance;
   Simulation sim;

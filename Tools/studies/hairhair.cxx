@@ -1,6 +1,8 @@
 // hair_study hairhair: see Tools/studies/Studies.h and docs/study-*.md.
 #include "Studies.h"
 
+#include "der/DerModel.h"
+
 using namespace hair;
 using namespace hair::tools;
 
@@ -107,29 +109,31 @@ int hairhair(const Arguments& args)
       std::cerr << "hair_study hairhair: " << s.message() << "\n";
       return 1;
     }
+    const std::map<std::string, HairType> types = {{"smooth", HairType::Smooth},
+                                                   {"wavy", HairType::Wavy},
+                                                   {"curly", HairType::Curly},
+                                                   {"fuzzy", HairType::Fuzzy}};
+    const HairParameters preset = HairParameters::preset(types.at(args.text("hair")));
+    const ModelType modelType = args.model("model");
     std::vector<GuideStrand> guides;
-    if (s = demoGuides(body, guidesCount, 10, guides); !s)
+    if (s = demoGuides(body, guidesCount,
+                       findModel(modelType)->elementsFor(preset, DemoGuideLength), guides);
+        !s)
     {
       std::cerr << "hair_study hairhair: " << s.message() << "\n";
       return 1;
     }
-    {
-      const std::map<std::string, HairType> types = {{"smooth", HairType::Smooth},
-                                                     {"wavy", HairType::Wavy},
-                                                     {"curly", HairType::Curly},
-                                                     {"fuzzy", HairType::Fuzzy}};
-      const auto type = types.find(args.text("hair")); // one of them (checked)
-      for (GuideStrand& g : guides)
-        g.hair = HairParameters::preset(type->second);
-    }
+    for (GuideStrand& g : guides)
+      g.hair = preset;
     SimulationOptions o;
+    o.model = modelType;
     o.threads = threads;
     o.contacts.enabled = bodyContacts == 1;
-    o.superHelix.hairHairEnabled = withContacts == 1;
-    o.superHelix.hairHair = p;
-    o.superHelix.hairHairSolver = solvers.at(solverName);
-    o.superHelix.hairGrid = grid;
-    o.superHelix.nearField = near;
+    o.hairHair.enabled = withContacts == 1;
+    o.hairHair.pairs = p;
+    o.hairHair.solver = solvers.at(solverName);
+    o.hairHair.grid = grid;
+    o.hairHair.nearField = near;
     Simulation sim;
     if (s = sim.initialize(guides, demoScene(body), o); !s)
     {
@@ -144,7 +148,9 @@ int hairhair(const Arguments& args)
     const double thickness =
         p.thickness > 0 ? p.thickness : HairHairParameters::automaticThickness(radius, guidesCount);
     const double R = 2 * thickness;
+    // The pairs' statistics are the Super-Helix's; the grid is every model's that has one.
     const auto* model = dynamic_cast<const SuperHelixModel*>(&sim.model());
+    const auto* rods = dynamic_cast<const DerModel*>(&sim.model());
     for (int f = 1; f <= frames; ++f)
     {
       const auto t0 = std::chrono::steady_clock::now();
@@ -156,9 +162,9 @@ int hairhair(const Arguments& args)
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       HairHairStats hhStats;
-      if (o.superHelix.hairHairSolver == HairHairSolver::Coupled)
+      if (model && o.hairHair.solver == HairHairSolver::Coupled)
         hhStats = model->hairHair().stats();
-      else
+      else if (model)
       {
         // The near field's, in the columns of the coupled solve's: pairs tracked, acting,
         // sweeps, pairs found crossed (rounds), the largest gap missing after the sweeps.
@@ -182,10 +188,14 @@ int hairhair(const Arguments& args)
     for (const auto& l : lines)
       tip += l.back().y() / static_cast<double>(lines.size());
     std::vector<double> fractions;
-    if (withContacts && o.superHelix.hairHairSolver != HairHairSolver::Coupled)
+    if (withContacts && o.hairHair.solver != HairHairSolver::Coupled && model)
       for (const SuperHelix& h : model->strands())
         for (const StrandSample& q : h.samples())
           fractions.push_back(model->hairGrid().fraction(q.position));
+    if (withContacts && rods)
+      for (const DerRod& r : rods->rods())
+        for (int j = 1; j <= r.edgeCount(); ++j)
+          fractions.push_back(rods->hairGrid().fraction(r.position(j)));
     std::sort(fractions.begin(), fractions.end());
     auto pct = [&](double p)
     { return fractions.empty() ? 0.0 : fractions[std::size_t(p * (fractions.size() - 1))]; };
@@ -264,34 +274,36 @@ Study hairhairStudy()
   return {
       "hairhair",
       "hair-hair contacts: pass-throughs, body penetration, contacts, the energy budget",
-      Keys{outKey("<csv>"),
-           choiceKey("scene", "demo", {"demo", "clump"}, "the demo's head or the clump"),
-           integerKey("contacts", "1", 0, 1, "hair-hair contacts on"),
-           integerKey("body", "1", 0, 1, "body contacts on (demo)"),
-           integerKey("guides", "200", 1, 20000, "the demo's guides"),
-           integerKey("threads", "2", 1, 256, "threads"),
-           numberKey("duration", "5 (demo), 6 (clump)", 1.0 / 30, 1000, "s").computedDefault(),
-           numberKey("thickness", "0 (demo: automatic), 1.2e-3 (clump)", 0, 0.1,
-                     "m, the hair-hair contact thickness")
-               .computedDefault(),
-           numberKey("stiffness", shortest(hh.stiffness), 1e-6, 1e6, "the contacts' stiffness"),
-           numberKey("friction", shortest(hh.friction), 0, 10, "the contacts' friction"),
-           numberKey("margin", shortest(hh.margin), 0, 4, "the contacts' margin"),
-           integerKey("iterations", std::to_string(hh.iterations), 1, 1000,
-                      "the contact solve's iterations"),
-           choiceKey("solver", "grid", {"grid", "near", "coupled"},
-                     "the hair-hair solver: the grid, the grid and the near field, or coupled"),
-           numberKey("fraction", shortest(grid.volumeFraction), 1e-4, 0.9,
-                     "the grid's volume fraction"),
-           numberKey("volume", shortest(grid.volume), 0, 1, "the grid's volume"),
-           numberKey("grid_friction", shortest(grid.friction), 0, 1e4, "the grid's friction"),
-           numberKey("cell", shortest(grid.cellSize), 0, 1, "m, the grid's cell (0: automatic)"),
-           integerKey("sweeps", std::to_string(near.sweeps), 1, 1000, "the near field's sweeps"),
-           numberKey("near_margin", shortest(near.margin), 0, 4, "the near field's margin"),
-           numberKey("piece", shortest(near.pieceLength), 1e-4, 0.1,
-                     "m, the near field's piece length"),
-           choiceKey("hair", "wavy", {"smooth", "wavy", "curly", "fuzzy"},
-                     "the demo's hair preset")},
+      Keys{
+          outKey("<csv>"),
+          choiceKey("scene", "demo", {"demo", "clump"}, "the demo's head or the clump"),
+          integerKey("contacts", "1", 0, 1, "hair-hair contacts on"),
+          integerKey("body", "1", 0, 1, "body contacts on (demo)"),
+          integerKey("guides", "200", 1, 20000, "the demo's guides"),
+          integerKey("threads", "2", 1, 256, "threads"),
+          numberKey("duration", "5 (demo), 6 (clump)", 1.0 / 30, 1000, "s").computedDefault(),
+          numberKey("thickness", "0 (demo: automatic), 1.2e-3 (clump)", 0, 0.1,
+                    "m, the hair-hair contact thickness")
+              .computedDefault(),
+          numberKey("stiffness", shortest(hh.stiffness), 1e-6, 1e6, "the contacts' stiffness"),
+          numberKey("friction", shortest(hh.friction), 0, 10, "the contacts' friction"),
+          numberKey("margin", shortest(hh.margin), 0, 4, "the contacts' margin"),
+          integerKey("iterations", std::to_string(hh.iterations), 1, 1000,
+                     "the contact solve's iterations"),
+          choiceKey("solver", "grid", {"grid", "near", "coupled"},
+                    "the hair-hair solver: the grid, the grid and the near field, or coupled"),
+          numberKey("fraction", shortest(grid.volumeFraction), 1e-4, 0.9,
+                    "the grid's volume fraction"),
+          numberKey("volume", shortest(grid.volume), 0, 1, "the grid's volume"),
+          numberKey("grid_friction", shortest(grid.friction), 0, 1e4, "the grid's friction"),
+          numberKey("cell", shortest(grid.cellSize), 0, 1, "m, the grid's cell (0: automatic)"),
+          integerKey("sweeps", std::to_string(near.sweeps), 1, 1000, "the near field's sweeps"),
+          numberKey("near_margin", shortest(near.margin), 0, 4, "the near field's margin"),
+          numberKey("piece", shortest(near.pieceLength), 1e-4, 0.1,
+                    "m, the near field's piece length"),
+          choiceKey("hair", "wavy", {"smooth", "wavy", "curly", "fuzzy"}, "the demo's hair preset"),
+          modelKey("model", "super-helix",
+                   "the demo's strand model (its registered elements a guide)")},
       hairhair};
 }
 } // namespace hair::tools
