@@ -64,13 +64,26 @@ const std::vector<ModelEntry>& registeredModels()
 {
   static const std::vector<ModelEntry> models = {
       {ModelType::SuperHelix, "super-helix", "Super-Helix", makeSuperHelix, drawSuperHelixFrame,
-       superHelixElements},
+       superHelixElements,
+       ReadsSuperHelixOptions | ReadsBodyContactLaw | ReadsHairGrid | ReadsHairHairPairs},
+      // Its friction from the body's law; its normal response is its reaction constraint.
       {ModelType::Projective, "projective", "Projective", makeProjective, drawProjectiveFrame,
-       projectiveElements},
+       projectiveElements, 0},
       {ModelType::DiscreteElasticRods, "discrete-elastic-rods", "Discrete Elastic Rods", makeDer,
-       drawDerFrame, DerModel::edgesFor},
+       drawDerFrame, DerModel::edgesFor, ReadsBodyContactLaw | ReadsHairGrid},
   };
   return models;
+}
+
+const std::vector<ModelReadsName>& modelReadsNames()
+{
+  static const std::vector<ModelReadsName> names = {
+      {ReadsSuperHelixOptions, "SuperHelixOptions"},
+      {ReadsBodyContactLaw, "BodyContactLaw"},
+      {ReadsHairGrid, "HairGrid"},
+      {ReadsHairHairPairs, "HairHairPairs"},
+  };
+  return names;
 }
 
 const ModelEntry* findModel(ModelType type)

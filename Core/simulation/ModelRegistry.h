@@ -29,6 +29,32 @@ enum class ModelType
 
 struct SimulationOptions;
 
+/// The groups of Hair Simulation's properties a model reads (ModelEntry::reads): the GUI
+/// shows a group's properties only when the chosen model reads it (Plugin/HairSimulation.xml
+/// is generated from the registry, Plugin/GenerateSimulationXml.cxx). The names are the
+/// template's (`<ModelDecorator reads="BodyContactLaw"/>`).
+enum ModelReads : unsigned
+{
+  /// The Super-Helix's own options: Integrator, Tolerance, Quadrature Tolerance.
+  ReadsSuperHelixOptions = 1u << 0,
+  /// The body contact law's penalty: Contacts, Contact Stiffness, Damping, Thickness, Slip
+  /// Velocity (the friction coefficients are read by every model).
+  ReadsBodyContactLaw = 1u << 1,
+  /// Hair–hair interaction's solver and grid: Hair Hair Contacts, Hair Volume Fraction …
+  /// Hair Grid Cell Size.
+  ReadsHairGrid = 1u << 2,
+  /// Hair–hair pairs (the near field, the coupled solve): Hair Contact Thickness … Hair
+  /// Contact Per Length.
+  ReadsHairHairPairs = 1u << 3,
+};
+/// The groups by their template names, for the XML generator and its messages.
+struct ModelReadsName
+{
+  ModelReads group;
+  const char* name;
+};
+const std::vector<ModelReadsName>& modelReadsNames();
+
 struct ModelEntry
 {
   ModelType type;
@@ -41,6 +67,8 @@ struct ModelEntry
   /// The number of elements the tools give a guide of `hair` and `length` [m] when they are
   /// asked for none (hair_study demo, hair_soak).
   int (*elementsFor)(const HairParameters& hair, double length);
+  /// The property groups it reads (ModelReads, or-ed).
+  unsigned reads;
 };
 
 /// Every registered model, in the order of their values.
