@@ -284,6 +284,20 @@ SimulationOptions optionsFor(ModelType model)
   return o;
 }
 
+/// The rank tests' guides for `model`: mixedGuides at 5 elements; the rods at 20 edges,
+/// smooth and wavy (the wavy preset's curl needs 17 edges, the curly and fuzzy presets' 27
+/// and 46: DerSpec::MaxRestTurn).
+std::vector<GuideStrand> rankGuides(ModelType model, int count)
+{
+  const bool rods = model == ModelType::DiscreteElasticRods;
+  std::vector<GuideStrand> guides = mixedGuides(count, rods ? 20 : 5);
+  for (std::size_t k = 0; rods && k < guides.size(); ++k)
+  {
+    guides[k].hair = HairParameters::preset(k % 2 ? HairType::Wavy : HairType::Smooth);
+  }
+  return guides;
+}
+
 /// A test's name for the model: its label's letters and digits ("DiscreteElasticRods").
 std::string modelTestName(ModelType model)
 {
@@ -452,14 +466,7 @@ TEST_P(RankIndependence, OneTwoAndFourRanksGiveTheSameStrandsAndTheSameFile)
     GTEST_SKIP() << "needs 4 ranks (mpirun -np 4)";
   }
   const ModelType model = GetParam();
-  // The rods at 20 edges, smooth and wavy: the wavy preset's curl needs 17, the curly and
-  // fuzzy presets' 27 and 46 (DerSpec::MaxRestTurn).
-  const bool rods = model == ModelType::DiscreteElasticRods;
-  std::vector<GuideStrand> guides = mixedGuides(24, rods ? 20 : 5);
-  for (std::size_t k = 0; rods && k < guides.size(); ++k)
-  {
-    guides[k].hair = HairParameters::preset(k % 2 ? HairType::Wavy : HairType::Smooth);
-  }
+  const std::vector<GuideStrand> guides = rankGuides(model, 24);
   const SimulationOptions options = optionsFor(model);
   const int frames = 10;
   const char* name = findModel(model)->name;
@@ -918,15 +925,8 @@ TEST_P(GridRanks, TheGridIsSummedOverTheRanksAndTheStrandsAreTheSameOnAnyNumberO
   {
     GTEST_SKIP() << "needs 4 ranks (mpirun -np 4)";
   }
-  // Every model with the grid: the Super-Helix at 5 elements, the rods at 20 edges,
-  // smooth and wavy (as RankIndependence).
-  const ModelType model = GetParam();
-  const bool rods = model == ModelType::DiscreteElasticRods;
-  std::vector<GuideStrand> guides = mixedGuides(60, rods ? 20 : 5);
-  for (std::size_t k = 0; rods && k < guides.size(); ++k)
-  {
-    guides[k].hair = HairParameters::preset(k % 2 ? HairType::Wavy : HairType::Smooth);
-  }
+  const ModelType model = GetParam(); // every model with the grid
+  const std::vector<GuideStrand> guides = rankGuides(model, 60);
   const SimulationOptions o = optionsFor(model);
   ASSERT_TRUE(o.hairHair.enabled);
   ASSERT_EQ(o.hairHair.solver, HairHairSolver::Grid);
