@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <vector>
 
 #include <omp.h>
 
@@ -51,6 +52,28 @@ void parallelBlocks(std::int64_t count, std::int64_t grain, int threads,
   {
     std::rethrow_exception(error);
   }
+}
+
+Status parallelEach(std::int64_t count, int threads,
+                    const std::function<Status(std::int64_t k)>& each)
+{
+  std::vector<Status> results(static_cast<std::size_t>(std::max<std::int64_t>(count, 0)));
+  parallelBlocks(count, 1, threads,
+                 [&](std::int64_t begin, std::int64_t end)
+                 {
+                   for (std::int64_t k = begin; k < end; ++k)
+                   {
+                     results[static_cast<std::size_t>(k)] = each(k);
+                   }
+                 });
+  for (const Status& s : results)
+  {
+    if (!s)
+    {
+      return s;
+    }
+  }
+  return Status::Ok();
 }
 
 } // namespace hair

@@ -3,6 +3,8 @@
 // its own. Work is cut into blocks that depend only on its size, never on the number of
 // threads, so that anything merged block by block comes out the same on any number of
 // threads.
+#include "common/Status.h"
+
 #include <cstdint>
 #include <functional>
 
@@ -16,6 +18,12 @@ namespace hair
 /// run or been skipped; blocks not started by then are skipped.
 void parallelBlocks(std::int64_t count, std::int64_t grain, int threads,
                     const std::function<void(std::int64_t begin, std::int64_t end)>& body);
+
+/// Calls each(k) for every k of [0, count) on up to `threads` threads, one k a block (a
+/// strand built or stepped), and returns the failure of the smallest k that failed, or Ok:
+/// the same message whatever the threads and whichever failed first in time.
+Status parallelEach(std::int64_t count, int threads,
+                    const std::function<Status(std::int64_t k)>& each);
 
 /// The number of blocks parallelBlocks cuts [0, count) into.
 inline std::int64_t blockCount(std::int64_t count, std::int64_t grain)

@@ -206,63 +206,11 @@ Status DerModel::initialize(const std::vector<GuideStrand>& guides, const Scene&
   Anchors.assign(guides.size(), {});
   Built = guides;
   Reports.assign(guides.size(), GroomReport());
-  std::vector<Status> failed(guides.size());
-  parallelBlocks(static_cast<std::int64_t>(guides.size()), 1, run.threads,
-                 [&](std::int64_t begin, std::int64_t end)
-                 {
-                   for (std::int64_t k = begin; k < end; ++k)
-                   {
-                     const std::string name = "strand " + std::to_string(run.strandId(k));
-                     const GuideStrand& g = guides[k];
-                     if (g.restShape == RestShape::SagFree)
-                     {
-                       failed[k] = Status::Error(
-                           name + ": a sag-free rest shape is not available for the "
-                                  "discrete-elastic-rods model yet: grow it as grown, or run "
-                                  "the Super-Helix or projective model.");
-                       continue;
-                     }
-                     DerSpec spec;
-                     failed[k] = specFor(g, World, spec, Reports[k].fitError);
-                     if (!failed[k])
-                     {
-                       failed[k] = Status::Error(name + " " + failed[k].message());
-                       continue;
-                     }
-                     spec.name = name;
-                     spec.id = run.strandId(k);
-                     spec.solver = Solver;
-                     failed[k] = Rods[k].initialize(spec, 0);
-                     if (failed[k] && g.curve.empty())
-                     {
-                       // A grown strand starts at rest in its natural shape (StrandModel):
-                       // its rest strains as drawn, the shape they give from the clamp.
-                       const int n = Rods[k].edgeCount();
-                       spec.restStrains.clear();
-                       for (int i = 1; i < n; ++i)
-                       {
-                         const double lbar = 0.5 * (spec.edgeLengths[i - 1] + spec.edgeLengths[i]);
-                         for (int c = 0; c < 3; ++c)
-                         {
-                           spec.restStrains.push_back(Rods[k].restStrains(i)[c] / lbar);
-                         }
-                       }
-                       Rods[k].naturalShape(spec.initialNodes, spec.initialTwists);
-                       failed[k] = Rods[k].initialize(spec, 0);
-                     }
-                     if (failed[k] && !g.curve.empty())
-                     {
-                       Built[k].length = spec.edgeLengths[0] * (g.elements - 0.5);
-                       Built[k].growth = spec.root(0).orientation.col(0);
-                     }
-                   }
-                 });
-  for (const Status& s : failed)
+  const Status built = parallelEach(static_cast<std::int64_t>(guides.size()), run.threads,
+                                    [&](std::int64_t k) { return buildRod(k, guides[k]); });
+  if (!built)
   {
-    if (!s)
-    {
-      return s;
-    }
+    return built;
   }
   for (std::size_t k = 0; k < Rods.size(); ++k)
   {
@@ -272,6 +220,49 @@ Status DerModel::initialize(const std::vector<GuideStrand>& guides, const Scene&
                              { respond(k, t, samples, response); });
   }
   return Status::Ok();
+}
+
+Status DerModel::buildRod(std::int64_t k, const GuideStrand& g)
+{
+  const std::string name = "strand " + std::to_string(Run.strandId(k));
+  if (g.restShape == RestShape::SagFree)
+  {
+    return Status::Error(name + ": a sag-free rest shape is not available for the "
+                                "discrete-elastic-rods model yet: grow it as grown, or run the "
+                                "Super-Helix or projective model.");
+  }
+  DerSpec spec;
+  if (Status s = specFor(g, World, spec, Reports[k].fitError); !s)
+  {
+    return Status::Error(name + " " + s.message());
+  }
+  spec.name = name;
+  spec.id = Run.strandId(k);
+  spec.solver = Solver;
+  Status s = Rods[k].initialize(spec, 0);
+  if (s && g.curve.empty())
+  {
+    // A grown strand starts at rest in its natural shape (StrandModel): its rest strains as
+    // drawn, the shape they give from the clamp.
+    const int n = Rods[k].edgeCount();
+    spec.restStrains.clear();
+    for (int i = 1; i < n; ++i)
+    {
+      const double lbar = 0.5 * (spec.edgeLengths[i - 1] + spec.edgeLengths[i]);
+      for (int c = 0; c < 3; ++c)
+      {
+        spec.restStrains.push_back(Rods[k].restStrains(i)[c] / lbar);
+      }
+    }
+    Rods[k].naturalShape(spec.initialNodes, spec.initialTwists);
+    s = Rods[k].initialize(spec, 0);
+  }
+  if (s && !g.curve.empty())
+  {
+    Built[k].length = spec.edgeLengths[0] * (g.elements - 0.5);
+    Built[k].growth = spec.root(0).orientation.col(0);
+  }
+  return s;
 }
 
 void DerModel::respond(std::size_t k, double t, const std::vector<StrandSample>& samples,
@@ -349,7 +340,6 @@ Status DerModel::advanceTo(double target)
 {
   const int steps = std::max(0, static_cast<int>(std::lround((target - Time) / Step)));
   FrameIterations = FrameSteps = 0; // the statistics are of the steps since the last frame
-  std::vector<Status> failed(Rods.size());
   std::vector<double> iterations(Rods.size(), 0.0);
   for (int i = 0; i < steps; ++i)
   {
@@ -359,23 +349,9 @@ Status DerModel::advanceTo(double target)
       // same grid.
       buildGrid(Step);
     }
-    parallelBlocks(static_cast<std::int64_t>(Rods.size()), 1, Run.threads,
-                   [&](std::int64_t begin, std::int64_t end)
-                   {
-                     for (std::int64_t k = begin; k < end; ++k)
-                     {
-                       failed[k] = stepRod(Rods[k], Step, 0, iterations[k]);
-                     }
-                   });
-    Status mine = Status::Ok();
-    for (const Status& s : failed)
-    {
-      if (!s)
-      {
-        mine = s;
-        break;
-      }
-    }
+    const Status mine =
+        parallelEach(static_cast<std::int64_t>(Rods.size()), Run.threads,
+                     [&](std::int64_t k) { return stepRod(Rods[k], Step, 0, iterations[k]); });
     // The grid is built by every rank at every step (collective): when a rod failed on any
     // rank, all stop at this step, the others with Ok so that the run reports the failure's
     // own rank and message (Simulation::advanceTo agrees on it).

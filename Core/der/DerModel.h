@@ -79,6 +79,9 @@ public:
   static constexpr int MaxHalvings = 6;
 
 private:
+  /// Rod k from guide g (initialize, on the run's threads): its spec, the rod in its
+  /// natural shape (grown) or on its groom's curve.
+  Status buildRod(std::int64_t k, const GuideStrand& g);
   static Status stepRod(DerRod& rod, double h, int depth, double& iterations);
   void respond(std::size_t k, double t, const std::vector<StrandSample>& samples,
                std::vector<ContactResponse>& response) const;

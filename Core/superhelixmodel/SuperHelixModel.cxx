@@ -168,24 +168,16 @@ Status SuperHelixModel::initialize(const std::vector<GuideStrand>& guides, const
   Anchors.assign(guides.size(), {});
   Built = guides;
   Reports.assign(guides.size(), GroomReport());
-  std::vector<Status> failed(guides.size());
   // Strand by strand on the run's threads: a groom's fit and a sag-free rest shape cost
   // milliseconds each (docs/benchmarks.md).
-  parallelBlocks(static_cast<std::int64_t>(guides.size()), 1, Run.threads,
-                 [&](std::int64_t begin, std::int64_t end)
-                 {
-                   for (std::int64_t k = begin; k < end; ++k)
-                   {
-                     failed[k] = buildStrand(static_cast<int>(k), guides[k], uniformAir,
-                                             uniformWind, restContacts);
-                   }
-                 });
-  for (const Status& s : failed)
+  const Status built = parallelEach(static_cast<std::int64_t>(guides.size()), Run.threads,
+                                    [&](std::int64_t k) {
+                                      return buildStrand(static_cast<int>(k), guides[k], uniformAir,
+                                                         uniformWind, restContacts);
+                                    });
+  if (!built)
   {
-    if (!s)
-    {
-      return s;
-    }
+    return built;
   }
   for (std::size_t k = 0; k < Helices.size(); ++k)
   {
