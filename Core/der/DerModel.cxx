@@ -503,9 +503,7 @@ EnergyBudget DerModel::energy() const
   {
     // The rods' contact work holds the grid's drag and push: reported apart, as the work of
     // its forces plus what its drag dissipated, and that dissipation (as the Super-Helix's).
-    b.add("contact_work", EnergyKind::Work, sum.total.contactWork - sum.total.fieldWork);
-    b.add(energy::HairGridWork, EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
-    b.add(energy::HairGridDissipated, EnergyKind::Dissipation, sum.total.fieldDissipated);
+    addGridContactWork(b, sum.total.contactWork, sum.total.fieldWork, sum.total.fieldDissipated);
   }
   else
   {

@@ -67,4 +67,12 @@ std::vector<std::string> EnergyBudget::extraNames() const
   return names;
 }
 
+void addGridContactWork(EnergyBudget& budget, double contactWork, double fieldWork,
+                        double fieldDissipated)
+{
+  budget.add("contact_work", EnergyKind::Work, contactWork - fieldWork);
+  budget.add(energy::HairGridWork, EnergyKind::Work, fieldWork + fieldDissipated);
+  budget.add(energy::HairGridDissipated, EnergyKind::Dissipation, fieldDissipated);
+}
+
 } // namespace hair

@@ -60,4 +60,11 @@ private:
   std::vector<Term> Terms;
 };
 
+/// The contact work of strands whose contact responses include the hair grid's far field
+/// (ContactResponse's drag and push): of `contactWork`, the grid's `fieldWork` is reported as
+/// hair_grid_work together with what its drag dissipated (`fieldDissipated`, also reported
+/// as hair_grid_dissipated), the rest as contact_work; works − dissipations is unchanged.
+void addGridContactWork(EnergyBudget& budget, double contactWork, double fieldWork,
+                        double fieldDissipated);
+
 } // namespace hair

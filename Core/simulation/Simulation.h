@@ -44,8 +44,8 @@ struct SimulationOptions
   /// rods; the near field and the coupled pairs are the Super-Helix's. The projective
   /// model has none and runs without it.
   HairHairOptions hairHair;
-  SuperHelixOptions
-      superHelix; ///< read by the Super-Helix model only (not its contacts, hair–hair)
+  /// Read by the Super-Helix model only (not its contacts, not hair–hair).
+  SuperHelixOptions superHelix;
   ProjectiveOptions projective; ///< read by the projective model only (not its step, threads)
   SagFreeOptions sagFree;       ///< for guides whose rest shape is sag-free, either model
 

@@ -675,10 +675,8 @@ EnergyBudget SuperHelixModel::energy() const
     // near field's pairs: reported apart. The grid's as the work of its forces plus what
     // its drag dissipated, and that dissipation (the drag relative to the hair around);
     // the pairs' as their work. Works − dissipations is unchanged.
-    b.add("contact_work", EnergyKind::Work,
-          sum.total.contactWork - sum.total.fieldWork - HairHairWork);
-    b.add(energy::HairGridWork, EnergyKind::Work, sum.total.fieldWork + sum.total.fieldDissipated);
-    b.add(energy::HairGridDissipated, EnergyKind::Dissipation, sum.total.fieldDissipated);
+    addGridContactWork(b, sum.total.contactWork - HairHairWork, sum.total.fieldWork,
+                       sum.total.fieldDissipated);
     if (Options.hairHair.solver == HairHairSolver::GridAndNearField)
     {
       b.add("hair_hair_work", EnergyKind::Work, HairHairWork);

@@ -696,7 +696,7 @@ TEST(Simulation, TheGridGivesTheSuperHelixAndTheRodsTheSameVolume)
   const int count = 40, frames = 45;
   const double disc = 0.006, cell = 0.004;
   const double area = guideClumpArea(25e-6, count) * count;
-  const double R0 = std::sqrt(area / (M_PI * 0.05));
+  const double R0 = std::sqrt(area / (M_PI * HairGridParameters().volumeFraction));
   std::map<std::pair<ModelType, bool>, ClumpOutcome> runs;
   for (ModelType model : {ModelType::SuperHelix, ModelType::DiscreteElasticRods})
     for (bool grid : {false, true})

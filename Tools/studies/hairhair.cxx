@@ -109,11 +109,13 @@ int hairhair(const Arguments& args)
       std::cerr << "hair_study hairhair: " << s.message() << "\n";
       return 1;
     }
-    const std::map<std::string, HairType> types = {{"smooth", HairType::Smooth},
-                                                   {"wavy", HairType::Wavy},
-                                                   {"curly", HairType::Curly},
-                                                   {"fuzzy", HairType::Fuzzy}};
-    const HairParameters preset = HairParameters::preset(types.at(args.text("hair")));
+    HairType type = HairType::Wavy;
+    if (s = presetByName(args.text("hair"), type); !s) // a choice key: one of them
+    {
+      std::cerr << "hair_study hairhair: " << s.message() << "\n";
+      return 2;
+    }
+    const HairParameters preset = HairParameters::preset(type);
     const ModelType modelType = args.model("model");
     std::vector<GuideStrand> guides;
     if (s = demoGuides(body, guidesCount,
